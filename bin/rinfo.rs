@@ -1,0 +1,3 @@
+fn main() {
+    rdaylight::cli::run("rinfo", || Ok(()))
+}

@@ -1,0 +1,56 @@
+//! What every binary shares: error reporting and exit codes, in the ripgrep manner.
+//!
+//! A binary's `main` is `fn main() { rdaylight::cli::run("rmtx", real_main) }`: errors print one
+//! line `rmtx: file:line: message` on stderr and exit with status 1; a closed output pipe is a
+//! normal end (status 0), as it is for Radiance's own programs in `| head`.
+
+use crate::error::Error;
+use std::io::{IsTerminal, Write};
+
+pub fn run(prog: &str, f: impl FnOnce() -> Result<(), Error>) -> ! {
+    let code = match f() {
+        Ok(()) => 0,
+        Err(e) if e.is_broken_pipe() => 0,
+        Err(e) => {
+            let _ = writeln!(std::io::stderr(), "{prog}: {e}");
+            1
+        }
+    };
+    let _ = std::io::stdout().flush();
+    std::process::exit(code)
+}
+
+/// Progress on stderr only when a person is watching (stderr is a terminal).
+pub fn show_progress() -> bool {
+    std::io::stderr().is_terminal()
+}
+
+/// Write a file atomically: the data goes to a temporary file beside the target which is
+/// renamed over it only once everything was written, so a failed run leaves nothing
+/// half-written behind.
+pub fn write_atomically(
+    path: &std::path::Path,
+    f: impl FnOnce(&mut dyn Write) -> Result<(), Error>,
+) -> Result<(), Error> {
+    let shown = path.display().to_string();
+    let dir = path
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(std::path::Path::new("."));
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let tmp = dir.join(format!(".{name}.{}.part", std::process::id()));
+    let result = (|| {
+        let file = std::fs::File::create(&tmp).map_err(|e| Error::io(&shown, e))?;
+        let mut w = std::io::BufWriter::new(file);
+        f(&mut w)?;
+        w.flush().map_err(|e| Error::io(&shown, e))?;
+        std::fs::rename(&tmp, path).map_err(|e| Error::io(&shown, e))
+    })();
+    if result.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    result
+}

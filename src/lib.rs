@@ -1,0 +1,19 @@
+//! # rdaylight: Radiance-compatible daylight tools for existing rooms
+//!
+//! The library behind the `r*` command-line tools. Everything reads and writes Radiance's own
+//! formats so that any one tool can replace one stage of an existing Radiance pipeline.
+//!
+//! - [`formats`]: Radiance's file formats (information header, matrices, pictures, views,
+//!   sensor rays, weather), each parsed with `nom`, streaming where files get large, with
+//!   errors that name file, line and what was expected.
+//! - [`scene`]: the `.rad` scene description: grammar, inline `!commands`, typed primitives.
+//! - [`radiometry`]: channel layouts (RGB or N spectral bands) shared by every buffer.
+//! - [`cli`]: what the thin binaries in `bin/` share (exit codes, progress, atomic output).
+
+pub mod cli;
+pub mod error;
+pub mod formats;
+pub mod radiometry;
+pub mod scene;
+
+pub use error::{Error, Location, Result};

@@ -1,0 +1,150 @@
+//! Channel layouts: how many numbers a radiometric value carries and what they mean.
+//!
+//! Radiance 6 carries either 3 channels (RGB, the default primaries) or N equal-width
+//! spectral bands (`-cs N -cw min max`), ordered from the **longest** wavelength down
+//! (`src/common/color.c: setscolor`, `scolor2color`). A file says which with `NCOMP=` and,
+//! for N > 3, `WAVELENGTH_SPLITS= lmax lRG lGB lmin` (default `780 588 480 380`, Radiance's
+//! `WLPART`). Nothing in the core assumes 3: every buffer is `ncomp` wide.
+
+use crate::error::{Error, Result};
+use crate::formats::header::Header;
+
+/// Radiance's default wavelength splits `WLPART` (nm): max, red/green, green/blue, min.
+pub const DEFAULT_SPLITS: [f64; 4] = [780.0, 588.0, 480.0, 380.0];
+
+/// Luminous efficacy of equal-energy white over 380-780 nm, Radiance `WHTEFFICACY` (lm/W).
+pub const WHITE_EFFICACY: f64 = 179.0;
+
+/// Photopic weights of Radiance's standard RGB primaries (`src/common/color.h`,
+/// `CIE_rf/CIE_gf/CIE_bf`). `179 * (w . rgb)` is luminance or illuminance.
+pub const RGB_PHOTOPIC: [f64; 3] = [0.265074126, 0.670114631, 0.064811243];
+
+/// The rounded weights most pipelines use (`rmtxop -c 47.4 119.9 11.6` = 179 x .265/.670/.065).
+pub const RGB_PHOTOPIC_ROUNDED: [f64; 3] = [0.265, 0.670, 0.065];
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Channels {
+    /// Number of components per value (NCOMP).
+    pub ncomp: usize,
+    /// Wavelength splits (nm); meaningful for spectral layouts, default for RGB.
+    pub splits: [f64; 4],
+}
+
+impl Default for Channels {
+    fn default() -> Self {
+        Channels::rgb()
+    }
+}
+
+impl Channels {
+    pub const fn rgb() -> Self {
+        Channels {
+            ncomp: 3,
+            splits: DEFAULT_SPLITS,
+        }
+    }
+
+    /// One channel (grey, or an already weighted quantity such as illuminance).
+    pub const fn mono() -> Self {
+        Channels {
+            ncomp: 1,
+            splits: DEFAULT_SPLITS,
+        }
+    }
+
+    /// N spectral bands from `wl_max` down to `wl_min` (Radiance `-cs N -cw min max`).
+    /// Radiance accepts 3 <= N <= 24 (`MAXCSAMP`) and a range of at least 50 nm.
+    pub fn spectral(n: usize, wl_min: f64, wl_max: f64) -> Result<Self> {
+        if !(3..=crate::radiometry::MAX_SAMPLES).contains(&n) {
+            return Err(Error::Usage(format!(
+                "-cs {n}: the number of spectral samples must be between 3 and {MAX_SAMPLES}"
+            )));
+        }
+        if !(wl_max - wl_min >= 50.0) || wl_min <= 0.0 {
+            return Err(Error::Usage(format!(
+                "-cw {wl_min} {wl_max}: the wavelength range must span at least 50 nm"
+            )));
+        }
+        let mut splits = DEFAULT_SPLITS;
+        splits[0] = wl_max;
+        splits[3] = wl_min;
+        // Keep the R/G and G/B splits inside the range, as Radiance's setspectrsamp does.
+        splits[1] = splits[1].clamp(wl_min, wl_max);
+        splits[2] = splits[2].clamp(wl_min, wl_max);
+        Ok(Channels { ncomp: n, splits })
+    }
+
+    pub fn is_spectral(&self) -> bool {
+        self.ncomp > 3
+    }
+
+    /// Band `i` as `(upper, lower)` wavelengths in nm; band 0 is the longest wavelength.
+    pub fn band(&self, i: usize) -> (f64, f64) {
+        let step = (self.splits[3] - self.splits[0]) / self.ncomp as f64;
+        let hi = self.splits[0] + i as f64 * step;
+        (hi, hi + step)
+    }
+
+    /// Read NCOMP (default 3, as Radiance's readers assume) and WAVELENGTH_SPLITS.
+    pub fn from_header(h: &Header, name: &str) -> Result<Self> {
+        let ncomp = h.get_usize("NCOMP", name)?.unwrap_or(3);
+        if ncomp == 0 {
+            return Err(Error::parse(
+                crate::error::Location::line(name, h.line_of("NCOMP").unwrap_or(1)),
+                "NCOMP=0: expected at least one component",
+            ));
+        }
+        let splits = h.wavelength_splits(name)?.unwrap_or(DEFAULT_SPLITS);
+        Ok(Channels { ncomp, splits })
+    }
+
+    /// Write `NCOMP=` and, for spectral layouts, `WAVELENGTH_SPLITS=` (note Radiance's blank
+    /// after `=`, `fputwlsplit`).
+    pub fn to_header(&self, h: &mut Header) {
+        h.set("NCOMP", self.ncomp);
+        if self.ncomp > 3 {
+            let s = self.splits;
+            h.set(
+                "WAVELENGTH_SPLITS",
+                format!(" {} {} {} {}", s[0], s[1], s[2], s[3]),
+            );
+        } else {
+            h.remove("WAVELENGTH_SPLITS");
+        }
+    }
+}
+
+/// Radiance's limit on spectral samples (`MAXCSAMP`).
+pub const MAX_SAMPLES: usize = 24;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn spectral_bands_run_long_to_short() {
+        let c = Channels::spectral(20, 380.0, 780.0).unwrap();
+        assert_eq!(c.band(0), (780.0, 760.0));
+        assert_eq!(c.band(19), (400.0, 380.0));
+    }
+
+    #[test]
+    fn header_round_trip() {
+        let c = Channels::spectral(9, 380.0, 780.0).unwrap();
+        let mut h = Header::new();
+        c.to_header(&mut h);
+        assert!(
+            h.lines
+                .iter()
+                .any(|l| l == "WAVELENGTH_SPLITS= 780 588 480 380")
+        );
+        assert_eq!(Channels::from_header(&h, "t").unwrap(), c);
+    }
+
+    #[test]
+    fn rejects_out_of_range() {
+        assert!(Channels::spectral(2, 380.0, 780.0).is_err());
+        assert!(Channels::spectral(25, 380.0, 780.0).is_err());
+        assert!(Channels::spectral(5, 500.0, 520.0).is_err());
+    }
+}
