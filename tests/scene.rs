@@ -732,6 +732,11 @@ fn no_exec_default_comes_from_the_environment() {
             "{v:?}: {}",
             String::from_utf8_lossy(&out.stdout)
         );
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        assert!(
+            stdout.contains("1 passed"),
+            "the child ran the check: {stdout}"
+        );
     }
 }
 
