@@ -1,0 +1,546 @@
+//! Reading scene text: words, comments, `!` lines, objects, aliases and modifier links.
+//!
+//! Grammar (radiance-notes.md 4.1; `src/common/readobj.c`, `readfargs.c`, `fgetword.c`,
+//! `fgetline.c`, `words.c`):
+//!
+//! ```text
+//! # comment to end of line               only where a statement starts
+//! !command ...                            '\' + newline continues the line
+//! modifier type identifier
+//! N s1 ... sN                             words; '...' and "..." quote (also mid-word)
+//! 0                                       integer arguments: the count must be 0
+//! M r1 ... rM                             reals in C float syntax (isflt)
+//! modifier alias new_id old_id            modifier 'inherit' keeps old_id's modifier
+//! ```
+//!
+//! A modifier name refers to the most recently defined *modifier* (non-surface) with that id;
+//! an unknown name is an error, as in Radiance. Words are separated by C `isspace` characters.
+//! Differences from Radiance, all towards reporting instead of guessing: an unterminated quote
+//! is an error (Radiance reads to end of file), words are not cut at 511 characters, reals
+//! that overflow to infinity are rejected.
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+use nom::{
+    IResult, Parser,
+    branch::alt,
+    bytes::complete::{tag, take_till, take_while, take_while1},
+    character::complete::{char, digit0, digit1, one_of},
+    combinator::{all_consuming, opt, recognize},
+    multi::{fold_many1, many0},
+    sequence::delimited,
+};
+
+use super::otype::OType;
+use super::primitive::Primitive;
+use super::specdata::SpecData;
+use super::{Alias, LoadOptions, Object, Scene, exec};
+use crate::error::{Error, Location, Result};
+
+/// Nesting limit for `!` commands whose output holds more `!` commands (a runaway generator
+/// would otherwise recurse forever).
+const MAX_COMMAND_DEPTH: usize = 16;
+
+/// C `isspace` in the "C" locale (note: includes vertical tab, unlike `is_ascii_whitespace`).
+fn is_space(c: char) -> bool {
+    matches!(c, ' ' | '\t' | '\n' | '\x0B' | '\x0C' | '\r')
+}
+
+fn is_quote(c: char) -> bool {
+    c == '\'' || c == '"'
+}
+
+/// One word as `fgetword` reads it: runs of unquoted non-space characters and quoted
+/// segments (quotes removed), up to the first unquoted white space.
+fn word(input: &str) -> IResult<&str, String> {
+    fold_many1(
+        alt((
+            delimited(char('\''), take_till(|c| c == '\''), char('\'')),
+            delimited(char('"'), take_till(|c| c == '"'), char('"')),
+            take_while1(|c: char| !is_space(c) && !is_quote(c)),
+        )),
+        String::new,
+        |mut acc, s: &str| {
+            acc.push_str(s);
+            acc
+        },
+    )
+    .parse(input)
+}
+
+/// The text of a `!` line after the `!`, joined across backslash-newlines (kept verbatim, the
+/// shell removes them), without the final newline.
+fn command_line(input: &str) -> IResult<&str, &str> {
+    let (rest, _) = char('!').parse(input)?;
+    recognize(many0(alt((
+        take_while1(|c| c != '\\' && c != '\n'),
+        tag("\\\r\n"),
+        tag("\\\n"),
+        tag("\\"),
+    ))))
+    .parse(rest)
+}
+
+/// A `#` comment up to (not including) the end of the line.
+fn comment(input: &str) -> IResult<&str, &str> {
+    recognize((char('#'), take_till(|c| c == '\n'))).parse(input)
+}
+
+/// `isint` from `src/common/words.c`: optional sign, digits.
+fn parse_count(w: &str) -> Option<i64> {
+    all_consuming(recognize((opt(one_of("+-")), digit1::<&str, ()>)))
+        .parse(w)
+        .ok()
+        .and_then(|_| w.parse::<i64>().ok())
+}
+
+/// A real argument: `isflt` syntax from `src/common/words.c` (optional sign, digits with an
+/// optional fraction or a fraction alone, optional exponent), converted like `atof`. Returns
+/// `None` for anything else, including values that overflow to infinity.
+pub(crate) fn parse_real(w: &str) -> Option<f64> {
+    let mantissa = alt((
+        recognize((digit1::<&str, ()>, opt((char('.'), digit0)))),
+        recognize((char('.'), digit1)),
+    ));
+    let exponent = opt((one_of("eE"), opt(one_of("+-")), digit1));
+    all_consuming(recognize((opt(one_of("+-")), mantissa, exponent)))
+        .parse(w)
+        .ok()?;
+    w.parse::<f64>().ok().filter(|v| v.is_finite())
+}
+
+/// One piece of scene text being read.
+struct Source<'t> {
+    /// File name as shown in locations (`room.rad`, `<stdin>`, `room.rad:12: !genbox ...`).
+    name: String,
+    text: &'t str,
+    /// Folder for `!` commands and data files.
+    base_dir: PathBuf,
+    line_starts: Vec<usize>,
+    pos: usize,
+}
+
+impl<'t> Source<'t> {
+    fn new(name: String, text: &'t str, base_dir: PathBuf) -> Self {
+        let mut line_starts = vec![0];
+        line_starts.extend(text.match_indices('\n').map(|(i, _)| i + 1));
+        Source {
+            name,
+            text,
+            base_dir,
+            line_starts,
+            pos: 0,
+        }
+    }
+
+    fn rest(&self) -> &'t str {
+        self.text.get(self.pos..).unwrap_or("")
+    }
+
+    fn advance(&mut self, rest: &str) {
+        self.pos = self.text.len() - rest.len();
+    }
+
+    fn line_col(&self, offset: usize) -> (usize, usize) {
+        let line = self.line_starts.partition_point(|&s| s <= offset).max(1);
+        let start = self.line_starts.get(line - 1).copied().unwrap_or(0);
+        let col = self
+            .text
+            .get(start..offset)
+            .map_or(1, |s| s.chars().count() + 1);
+        (line, col)
+    }
+
+    fn loc(&self) -> Location {
+        let (l, c) = self.line_col(self.pos);
+        Location::at(self.name.clone(), l, c)
+    }
+
+    fn skip_space(&mut self) {
+        let (rest, _) = take_while::<_, &str, ()>(is_space)
+            .parse(self.rest())
+            .unwrap_or((self.rest(), ""));
+        self.advance(rest);
+    }
+
+    /// The next word and where it starts, or an error naming `context` and `what` was
+    /// expected when the text ends first.
+    fn word(&mut self, context: &str, what: &dyn Fn() -> String) -> Result<(String, Location)> {
+        self.skip_space();
+        let loc = self.loc();
+        if self.rest().is_empty() {
+            return Err(Error::parse(
+                loc,
+                format!("unexpected end of file {context}; expected {}", what()),
+            ));
+        }
+        match word(self.rest()) {
+            Ok((rest, w)) if !rest.starts_with(is_quote) => {
+                self.advance(rest);
+                Ok((w, loc))
+            }
+            _ => Err(Error::parse(
+                loc,
+                format!("unterminated quote {context}; expected {}", what()),
+            )),
+        }
+    }
+}
+
+/// Builds a [`Scene`] from one or more pieces of text.
+pub(crate) struct Loader<'o> {
+    opts: &'o LoadOptions,
+    objects: Vec<Object>,
+    /// Most recent modifier with each id (`modobject.c` `modtab`).
+    modifiers: HashMap<String, usize>,
+}
+
+impl<'o> Loader<'o> {
+    pub fn new(opts: &'o LoadOptions) -> Self {
+        Loader {
+            opts,
+            objects: Vec::new(),
+            modifiers: HashMap::new(),
+        }
+    }
+
+    pub fn finish(self) -> Scene {
+        Scene {
+            objects: self.objects,
+        }
+    }
+
+    /// Read one scene input as Radiance names them: `-` (stdin), `!command`, or a file.
+    pub fn load_input(&mut self, input: &str) -> Result<()> {
+        if input == "-" {
+            let mut buf = Vec::new();
+            std::io::Read::read_to_end(&mut std::io::stdin(), &mut buf)
+                .map_err(|e| Error::io("<stdin>", e))?;
+            let text = String::from_utf8_lossy(&buf);
+            self.parse(&text, "<stdin>".into(), PathBuf::new(), 0)
+        } else if let Some(cmd) = input.strip_prefix('!') {
+            let out = exec::run(cmd, Path::new(""), &Location::file(input), self.opts)?;
+            self.parse(&out, input.to_string(), PathBuf::new(), 1)
+        } else {
+            let buf = std::fs::read(input).map_err(|e| Error::io(input, e))?;
+            let text = String::from_utf8_lossy(&buf);
+            let dir = Path::new(input)
+                .parent()
+                .map(Path::to_path_buf)
+                .unwrap_or_default();
+            self.parse(&text, input.to_string(), dir, 0)
+        }
+    }
+
+    /// Parse `text` named `name`, whose `!` commands run in `base_dir`.
+    pub fn parse(
+        &mut self,
+        text: &str,
+        name: String,
+        base_dir: PathBuf,
+        depth: usize,
+    ) -> Result<()> {
+        let mut src = Source::new(name, text, base_dir);
+        loop {
+            src.skip_space();
+            let rest = src.rest();
+            if rest.is_empty() {
+                return Ok(());
+            }
+            if let Ok((r, _)) = comment(rest) {
+                src.advance(r);
+            } else if let Ok((r, cmd)) = command_line(rest) {
+                let loc = src.loc();
+                src.advance(r);
+                self.command(cmd, &src, loc, depth)?;
+            } else {
+                self.object(&mut src)?;
+            }
+        }
+    }
+
+    fn command(&mut self, cmd: &str, src: &Source, loc: Location, depth: usize) -> Result<()> {
+        if depth >= MAX_COMMAND_DEPTH {
+            return Err(Error::parse(
+                loc,
+                format!("'!' commands nested more than {MAX_COMMAND_DEPTH} deep"),
+            ));
+        }
+        // Location of the command line itself: file:line (the column is always 1).
+        let origin = Location::line(loc.file.clone(), loc.line.unwrap_or(1));
+        let out = exec::run(
+            cmd.trim_end_matches('\r'),
+            &src.base_dir,
+            &origin,
+            self.opts,
+        )?;
+        let name = format!("{origin}: !{}", exec::display_command(cmd));
+        self.parse(&out, name, src.base_dir.clone(), depth + 1)
+    }
+
+    fn object(&mut self, src: &mut Source) -> Result<()> {
+        let (mod_name, loc) = src.word("", &|| "a modifier".into())?;
+        if mod_name.contains('\t') {
+            return Err(Error::parse(
+                loc,
+                format!("illegal tab in modifier '{}'", mod_name.escape_debug()),
+            ));
+        }
+        // Resolve the modifier first, like getobject(): None = void, Some(None) = inherit.
+        let modifier: Option<Option<usize>> = match mod_name.as_str() {
+            "void" => Some(None),
+            "inherit" => None,
+            name => match self.modifiers.get(name) {
+                Some(&i) => Some(Some(i)),
+                None => {
+                    return Err(Error::parse(loc, format!("undefined modifier '{name}'")));
+                }
+            },
+        };
+        let ctx = format!("after modifier '{mod_name}' (object starting at {loc})");
+        let (type_name, tloc) = src.word(&ctx, &|| "a primitive type".into())?;
+        let otype = if type_name == "alias" {
+            None
+        } else {
+            match OType::from_name(&type_name) {
+                Some(t) => Some(t),
+                None => {
+                    return Err(Error::parse(
+                        tloc,
+                        format!("unknown primitive type '{type_name}'"),
+                    ));
+                }
+            }
+        };
+        let (id, iloc) = src.word(&ctx, &|| format!("an identifier for the {type_name}"))?;
+        if id.contains('\t') {
+            return Err(Error::parse(
+                iloc,
+                format!("illegal tab in identifier '{}'", id.escape_debug()),
+            ));
+        }
+        if otype.is_none_or(OType::is_modifier) && (id == "void" || id == "inherit") {
+            return Err(Error::parse(iloc, format!("illegal modifier name '{id}'")));
+        }
+        let ctx = format!("inside {type_name} '{id}' (started at {loc})");
+
+        let Some(otype) = otype else {
+            return self.alias(src, loc, mod_name, modifier, id, &ctx);
+        };
+        let Some(modifier) = modifier else {
+            return Err(Error::parse(
+                loc,
+                format!("{type_name} '{id}': 'inherit' can only be the modifier of an alias"),
+            ));
+        };
+
+        // Arguments (readfargs.c).
+        let (n, nloc) = src.word(&ctx, &|| "the number of string arguments".into())?;
+        let ns = match parse_count(&n) {
+            Some(v) if v >= 0 => v as usize,
+            _ => {
+                return Err(Error::parse(
+                    nloc,
+                    format!(
+                        "{type_name} '{id}': expected the number of string arguments, found '{n}'"
+                    ),
+                ));
+            }
+        };
+        let mut strings = Vec::new();
+        for i in 0..ns {
+            strings.push(
+                src.word(&ctx, &|| format!("string argument {} of {ns}", i + 1))?
+                    .0,
+            );
+        }
+        let (ni, niloc) = src.word(&ctx, &|| "the number of integer arguments (0)".into())?;
+        if parse_count(&ni) != Some(0) {
+            return Err(Error::parse(
+                niloc,
+                format!(
+                    "{type_name} '{id}': expected 0 integer arguments (Radiance allows none), found '{ni}'"
+                ),
+            ));
+        }
+        let (m, mloc) = src.word(&ctx, &|| "the number of real arguments".into())?;
+        let nr = match parse_count(&m) {
+            Some(v) if v >= 0 => v as usize,
+            _ => {
+                return Err(Error::parse(
+                    mloc,
+                    format!(
+                        "{type_name} '{id}': expected the number of real arguments, found '{m}'"
+                    ),
+                ));
+            }
+        };
+        let mut reals = Vec::new();
+        for i in 0..nr {
+            let what = || format!("real argument {} of {nr}", i + 1);
+            let (w, wloc) = src.word(&ctx, &what)?;
+            match parse_real(&w) {
+                Some(v) => reals.push(v),
+                None => {
+                    return Err(Error::parse(
+                        wloc,
+                        format!(
+                            "{type_name} '{id}': {}: expected a number, found '{w}'",
+                            what()
+                        ),
+                    ));
+                }
+            }
+        }
+        if !otype.string_count().accepts(ns) {
+            return Err(Error::parse(
+                nloc,
+                otype.string_count().mismatch(otype, &id, "string", ns),
+            ));
+        }
+        if !otype.real_count().accepts(nr) {
+            return Err(Error::parse(
+                mloc,
+                otype.real_count().mismatch(otype, &id, "real", nr),
+            ));
+        }
+        let mut kind = Primitive::from_args(otype, strings, reals).ok_or_else(|| {
+            Error::parse(loc.clone(), format!("{type_name} '{id}': bad arguments"))
+        })?;
+        if let Primitive::SpecFile { file, data } = &mut kind {
+            *data = read_specfile(file, &src.base_dir)?;
+        }
+        self.push(Object {
+            modifier,
+            modifier_name: mod_name,
+            id,
+            kind,
+            alias: None,
+            loc,
+        });
+        Ok(())
+    }
+
+    fn alias(
+        &mut self,
+        src: &mut Source,
+        loc: Location,
+        mod_name: String,
+        modifier: Option<Option<usize>>,
+        id: String,
+        ctx: &str,
+    ) -> Result<()> {
+        let (old, oloc) = src.word(ctx, &|| "the id of the aliased modifier".into())?;
+        let Some(&target) = self.modifiers.get(&old) else {
+            return Err(Error::parse(
+                oloc,
+                format!("alias '{id}' refers to undefined modifier '{old}'"),
+            ));
+        };
+        let Some(original) = self.objects.get(target) else {
+            return Err(Error::parse(
+                oloc,
+                format!("alias '{id}': bad reference '{old}'"),
+            ));
+        };
+        // readobj.c: with 'inherit' the alias passes straight through to the original (its
+        // type, arguments and modifier); otherwise it is the original's type and arguments
+        // under the given modifier.
+        let modifier = modifier.unwrap_or(original.modifier);
+        let obj = Object {
+            modifier,
+            modifier_name: mod_name,
+            id,
+            kind: original.kind.clone(),
+            alias: Some(Alias {
+                target,
+                target_id: old,
+            }),
+            loc,
+        };
+        self.push(obj);
+        Ok(())
+    }
+
+    fn push(&mut self, obj: Object) {
+        let index = self.objects.len();
+        if obj.kind.otype().is_modifier() {
+            // insertobject(): an identical redefinition keeps the earlier index.
+            let same = self
+                .modifiers
+                .get(&obj.id)
+                .and_then(|&i| self.objects.get(i))
+                .is_some_and(|prev| prev.kind == obj.kind && prev.modifier == obj.modifier);
+            if !same {
+                self.modifiers.insert(obj.id.clone(), index);
+            }
+        }
+        self.objects.push(obj);
+    }
+}
+
+/// Read the data file of a `specfile`: looked up in the scene file's folder, then in the
+/// `RAYPATH` folders (Radiance's `getpath` search). `Ok(None)` if it is nowhere.
+fn read_specfile(file: &str, base_dir: &Path) -> Result<Option<SpecData>> {
+    let mut candidates = vec![base_dir.join(file)];
+    if Path::new(file).is_relative() {
+        if let Some(raypath) = std::env::var_os("RAYPATH") {
+            candidates.extend(std::env::split_paths(&raypath).map(|d| d.join(file)));
+        }
+    }
+    for path in candidates {
+        if path.is_file() {
+            let shown = path.display().to_string();
+            let bytes = std::fs::read(&path).map_err(|e| Error::io(shown.clone(), e))?;
+            return SpecData::parse(&String::from_utf8_lossy(&bytes), &shown).map(Some);
+        }
+    }
+    Ok(None)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn words_follow_fgetword() {
+        assert_eq!(word("abc def").unwrap(), (" def", "abc".to_string()));
+        assert_eq!(
+            word("'a b'c\"d e\" x").unwrap(),
+            (" x", "a bcd e".to_string())
+        );
+        assert_eq!(
+            word("'Atan2(Dy,Dx)/PI+1' 0").unwrap().1,
+            "Atan2(Dy,Dx)/PI+1"
+        );
+        assert_eq!(word("''\n").unwrap(), ("\n", String::new()));
+        // Unterminated quote: the word stops before it; the caller reports it.
+        assert_eq!(word("ab'cd").unwrap(), ("'cd", "ab".to_string()));
+    }
+
+    #[test]
+    fn reals_follow_isflt() {
+        for (w, v) in [
+            ("1", 1.0),
+            ("-2.5", -2.5),
+            ("+.5", 0.5),
+            ("5.", 5.0),
+            ("1e3", 1e3),
+            ("1.5E-2", 0.015),
+        ] {
+            assert_eq!(parse_real(w), Some(v), "{w}");
+        }
+        for w in [
+            ".", "e5", "1e", "1e+", "inf", "nan", "0x10", "1,5", "1e999", "--1", "1.2.3",
+        ] {
+            assert_eq!(parse_real(w), None, "{w}");
+        }
+    }
+
+    #[test]
+    fn commands_join_continuations() {
+        assert_eq!(command_line("!a \\\nb\nc").unwrap(), ("\nc", "a \\\nb"));
+        assert_eq!(command_line("!a\\b").unwrap(), ("", "a\\b"));
+    }
+}
