@@ -60,7 +60,8 @@ impl Channels {
                 "-cs {n}: the number of spectral samples must be between 3 and {MAX_SAMPLES}"
             )));
         }
-        if !(wl_max - wl_min >= 50.0) || wl_min <= 0.0 {
+        // Written to also reject NaN ranges.
+        if wl_max - wl_min < 50.0 || wl_max.is_nan() || wl_min.is_nan() || wl_min <= 0.0 {
             return Err(Error::Usage(format!(
                 "-cw {wl_min} {wl_max}: the wavelength range must span at least 50 nm"
             )));
