@@ -70,7 +70,7 @@ pub fn encode_rgbe(r: f32, g: f32, b: f32) -> [u8; 4] {
     if b > d {
         d = b;
     }
-    if !(d > TINY) {
+    if d.is_nan() || d <= TINY {
         return [0, 0, 0, 0];
     }
     if !d.is_finite() {
@@ -110,7 +110,7 @@ pub fn encode_scolr(values: &[f32], out: &mut [u8]) {
             p = v;
         }
     }
-    if !(p as f64 > TINY) {
+    if p.is_nan() || p as f64 <= TINY {
         out.fill(0);
         return;
     }

@@ -140,7 +140,7 @@ pub fn read_exr_from<R: Read + Seek>(r: R, name: &str) -> Result<Picture> {
                 .collect();
             bands.sort_by(|a, b| b.0.total_cmp(&a.0));
             let n = bands.len();
-            if n < 3 || n > crate::radiometry::MAX_SAMPLES {
+            if !(3..=crate::radiometry::MAX_SAMPLES).contains(&n) {
                 return Err(Error::parse(
                     Location::file(name),
                     format!(
@@ -154,14 +154,17 @@ pub fn read_exr_from<R: Read + Seek>(r: R, name: &str) -> Result<Picture> {
             let even = bands
                 .windows(2)
                 .all(|p| ((p[0].0 - p[1].0) - step).abs() <= 1e-3 * step.max(1e-9));
-            if !(step > 0.0) || !even {
+            if step.is_nan() || step <= 0.0 || !even {
                 return Err(Error::parse(
                     Location::file(name),
                     format!("EXR spectral channels {names:?}: expected equally spaced wavelengths"),
                 ));
             }
-            let wl_max = bands[0].0 + 0.5 * step;
-            let wl_min = bands[n - 1].0 - 0.5 * step;
+            // Centres are written with 6 decimals: round the edges to 1e-3 nm so that
+            // 780 and 380 come back as such.
+            let round = |v: f64| (v * 1000.0).round() / 1000.0;
+            let wl_max = round(bands[0].0 + 0.5 * step);
+            let wl_min = round(bands[n - 1].0 - 0.5 * step);
             let mut splits = DEFAULT_SPLITS;
             splits[0] = wl_max;
             splits[3] = wl_min;

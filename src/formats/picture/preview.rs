@@ -92,9 +92,8 @@ pub fn tone_map(p: &Picture, exposure: Exposure) -> Result<image::RgbImage> {
     };
     let mut img = image::RgbImage::new(w, h);
     for (px, c) in img.pixels_mut().zip(&rgb) {
-        for i in 0..3 {
-            let v = (k * c[i]).clamp(0.0, 1.0);
-            px.0[i] = (srgb_encode(v) * 255.0 + 0.5) as u8;
+        for (o, &v) in px.0.iter_mut().zip(c) {
+            *o = (srgb_encode((k * v).clamp(0.0, 1.0)) * 255.0 + 0.5) as u8;
         }
     }
     Ok(img)

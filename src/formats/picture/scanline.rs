@@ -200,7 +200,8 @@ pub fn encode_colrs(line: &[[u8; 4]], out: &mut Vec<u8>) {
         return;
     }
     out.extend_from_slice(&[2, 2, (len >> 8) as u8, (len & 0xff) as u8]);
-    for plane in 0..4 {
+    // Planes in order R, G, B, E.
+    for plane in [0, 1, 2, 3] {
         let at = |k: usize| line[k][plane];
         let mut j = 0;
         while j < len {
