@@ -338,7 +338,20 @@ fn exr_round_trips_float_exact() {
         assert_eq!(q.channels.splits, p.channels.splits, "{name}");
         assert_eq!(q.data, p.radiance_values(), "{name}");
     }
-    assert!(exr::read_exr_from(Cursor::new(b"not exr".to_vec()), "bad.exr").is_err());
+    let e = exr::read_exr_from(Cursor::new(b"not exr".to_vec()), "bad.exr").unwrap_err();
+    assert!(
+        e.to_string()
+            .starts_with("bad.exr: not a readable OpenEXR file"),
+        "{e}"
+    );
+    // Every truncated prefix of an EXR we wrote is an error, never a panic.
+    let p = Picture::open(data_dir().join("small.hdr")).unwrap();
+    let mut buf = Cursor::new(Vec::new());
+    exr::write_exr_to(&p, &mut buf).unwrap();
+    let bytes = buf.into_inner();
+    for n in (0..bytes.len()).step_by(7) {
+        assert!(exr::read_exr_from(Cursor::new(bytes[..n].to_vec()), "t.exr").is_err());
+    }
 }
 
 #[test]

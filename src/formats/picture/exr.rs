@@ -98,14 +98,21 @@ pub fn write_exr(p: &Picture, path: impl AsRef<Path>) -> Result<()> {
 
 /// Read the first layer of an EXR stream; see the module documentation for the channels.
 pub fn read_exr_from<R: Read + Seek>(r: R, name: &str) -> Result<Picture> {
-    let image = exr::prelude::read()
-        .no_deep_data()
-        .largest_resolution_level()
-        .all_channels()
-        .first_valid_layer()
-        .all_attributes()
-        .from_buffered(r)
-        .map_err(|e| exr_error(name, e))?;
+    // The exr crate validates its input, but a decoder bug must not take the caller down:
+    // a panic inside it becomes an ordinary error.
+    let decoded = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+        exr::prelude::read()
+            .no_deep_data()
+            .largest_resolution_level()
+            .all_channels()
+            .first_valid_layer()
+            .all_attributes()
+            .from_buffered(r)
+    }));
+    let image = match decoded {
+        Ok(r) => r.map_err(|e| exr_error(name, e))?,
+        Err(_) => return Err(exr_error(name, "the decoder gave up on corrupt data")),
+    };
     let layer = image.layer_data;
     let (w, h) = (layer.size.0, layer.size.1);
     let chans = &layer.channel_data.list;

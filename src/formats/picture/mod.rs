@@ -699,6 +699,60 @@ mod tests {
     }
 
     #[test]
+    fn streaming_writer_and_reader() {
+        let res = Resolution::standard(40, 3);
+        let ch = Channels::rgb();
+        let mut w = PictureWriter::new(
+            Vec::new(),
+            "s.hdr",
+            &Header::new(),
+            PixelFormat::Rgbe,
+            &ch,
+            res,
+            true,
+        )
+        .unwrap();
+        let line: Vec<f32> = (0..120).map(|i| (i / 3) as f32).collect();
+        w.write_scanline(&line).unwrap();
+        assert!(w.write_scanline(&line[..3]).is_err());
+        w.write_scanline(&line).unwrap();
+        let mut w2 = PictureWriter::new(
+            Vec::new(),
+            "s.hdr",
+            &Header::new(),
+            PixelFormat::Rgbe,
+            &ch,
+            res,
+            true,
+        )
+        .unwrap();
+        w2.write_scanline(&line).unwrap();
+        let e = w2.finish().unwrap_err().to_string();
+        assert_eq!(e, "s.hdr: 1 of 3 scanlines written");
+        w.write_scanline(&line).unwrap();
+        assert!(w.write_scanline(&line).is_err(), "a fourth scanline");
+        let bytes = w.finish().unwrap();
+        let mut r = PictureReader::new(Cursor::new(&bytes), "s.hdr").unwrap();
+        assert_eq!(r.resolution, res);
+        let mut buf = vec![0f32; 120];
+        let mut n = 0;
+        while r.read_scanline(&mut buf).unwrap() {
+            // Back within half a mantissa step: 2^(e-9) <= v/256 for 2^(e-1) <= v < 2^e.
+            for (a, b) in buf.iter().zip(&line) {
+                assert!((a - b).abs() <= b / 256.0, "{a} {b}");
+            }
+            n += 1;
+        }
+        assert_eq!((n, r.next_scanline()), (3, 3));
+        assert!(!r.read_scanline(&mut buf).unwrap());
+        // Raw 4-byte access for the matrix module.
+        let mut r = PictureReader::new(Cursor::new(&bytes), "s.hdr").unwrap();
+        let mut colrs = vec![[0u8; 4]; 40];
+        assert!(r.read_colrs(&mut colrs).unwrap());
+        assert_eq!(colrs[1], color::encode_rgbe(1.0, 1.0, 1.0));
+    }
+
+    #[test]
     fn exposure_and_luminance() {
         let mut p = Picture::new(1, 1, Channels::rgb(), PixelFormat::Rgbe);
         p.data = vec![2.0, 2.0, 2.0];
