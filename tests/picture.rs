@@ -385,6 +385,37 @@ fn png_preview_dimensions_and_monotonic_tone_mapping() {
     assert_eq!(lin.data[4], 0.0);
 }
 
+/// Radiance's `checkheader` accepts a picture without FORMAT (pvalue reads it as RGBE); so
+/// do we. A wrong FORMAT is an error naming the line.
+#[test]
+fn missing_format_reads_as_rgbe_wrong_format_is_an_error() {
+    let bytes = std::fs::read(data_dir().join("small.hdr")).unwrap();
+    let orig = Picture::read(Cursor::new(&bytes), "small.hdr").unwrap();
+    let text_end = bytes.windows(2).position(|w| w == b"\n\n").unwrap();
+    let header = String::from_utf8(bytes[..text_end].to_vec()).unwrap();
+    let fmt_line = header
+        .lines()
+        .position(|l| l.starts_with("FORMAT="))
+        .unwrap()
+        + 1;
+    let without: Vec<u8> = header
+        .lines()
+        .filter(|l| !l.starts_with("FORMAT="))
+        .flat_map(|l| format!("{l}\n").into_bytes())
+        .chain(bytes[text_end + 1..].iter().copied())
+        .collect();
+    let p = Picture::read(Cursor::new(&without), "nofmt.hdr").unwrap();
+    assert_eq!((p.format, &p.data), (PixelFormat::Rgbe, &orig.data));
+    let wrong = String::from_utf8_lossy(&bytes).replace("FORMAT=32-bit_rle_rgbe", "FORMAT=float");
+    let e = Picture::read(Cursor::new(wrong.as_bytes()), "bad.hdr").unwrap_err();
+    assert!(
+        e.to_string().starts_with(&format!(
+            "bad.hdr:{fmt_line}: FORMAT=float: expected a picture"
+        )),
+        "{e}"
+    );
+}
+
 #[test]
 fn old_rle_picture_reads() {
     // Hand-made old-style run-length picture: 20 pixels in one scanline, A, 3 repeats of

@@ -669,6 +669,23 @@ mod tests {
     }
 
     #[test]
+    fn three_band_spectra_use_the_rgbe_codec() {
+        // freadscolrs/fwritescolrs fall back to the RGBE scanline codec for NCOMP=3.
+        let mut p = sample(PixelFormat::Spectra, 3, 20, 2);
+        p.channels = Channels::rgb();
+        let mut out = Vec::new();
+        p.write(&mut out, true).unwrap();
+        let text = String::from_utf8_lossy(&out);
+        assert!(text.contains("NCOMP=3\n"), "{text}");
+        let data = &out[out.windows(2).position(|w| w == b"\n\n").unwrap() + 2..];
+        let after_res = &data[data.iter().position(|&b| b == b'\n').unwrap() + 1..];
+        assert_eq!(&after_res[..4], &[2, 2, 0, 20], "new RLE scanline");
+        let q = Picture::read(Cursor::new(&out), "t.hsr").unwrap();
+        assert_eq!((q.format, q.ncomp()), (PixelFormat::Spectra, 3));
+        assert_eq!(q.data, p.data);
+    }
+
+    #[test]
     fn header_errors_are_one_line_with_location() {
         let cases: [(&[u8], &str); 5] = [
             (
