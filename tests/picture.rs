@@ -362,6 +362,16 @@ fn png_preview_dimensions_and_monotonic_tone_mapping() {
     preview::write_preview(&p, &png, preview::Exposure::Auto).unwrap();
     let back = preview::read_photo(&png).unwrap();
     assert_eq!((back.width, back.height), (p.width, p.height));
+    let jpg = dir.path().join("p.jpg");
+    preview::write_preview(&p, &jpg, preview::Exposure::Stops(0.0)).unwrap();
+    let back = preview::read_photo(&jpg).unwrap();
+    assert_eq!((back.width, back.height), (p.width, p.height));
+    let e = preview::read_photo_bytes(b"\x89PNG garbage", "x.png").unwrap_err();
+    assert!(
+        e.to_string()
+            .starts_with("x.png: not a PNG or JPEG picture"),
+        "{e}"
+    );
     // A grey ramp must give a non-decreasing, not constant, preview.
     let mut ramp = Picture::new(64, 1, Default::default(), PixelFormat::Rgbe);
     for (i, v) in ramp.data.iter_mut().enumerate() {

@@ -539,6 +539,9 @@ impl Picture {
     }
 
     /// The values of pixel (`x` from the left, `y` from the top).
+    ///
+    /// # Panics
+    /// If the pixel lies outside the picture (as slice indexing does).
     pub fn pixel(&self, x: usize, y: usize) -> &[f32] {
         let nc = self.ncomp();
         let at = (y * self.width + x) * nc;
@@ -574,6 +577,9 @@ impl Picture {
     /// `luminance()`, standard primaries whatever `PRIMARIES=` says, as pvalue and evalglare
     /// do). XYZE: Y as stored. Spectra: the RGB band averages of `scolor2color`, then as RGBE
     /// (what Radiance's picture tools do with spectral input).
+    ///
+    /// # Panics
+    /// If the pixel lies outside the picture.
     pub fn luminance(&self, x: usize, y: usize) -> f64 {
         let ex = self.exposure();
         let px = self.pixel(x, y);
