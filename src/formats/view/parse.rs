@@ -23,10 +23,10 @@ use super::{View, ViewType};
 use crate::error::{Error, Location, Result};
 use nom::{
     IResult, Parser,
-    branch::alt,
     bytes::complete::tag,
-    character::complete::{anychar, char, digit0, digit1, one_of},
-    combinator::{all_consuming, opt, recognize},
+    character::complete::{anychar, one_of},
+    combinator::all_consuming,
+    number::complete::recognize_float,
     sequence::preceded,
 };
 use std::io::{BufRead, Read};
@@ -51,18 +51,10 @@ fn words(s: &str) -> Vec<&str> {
     s.split(is_space).filter(|w| !w.is_empty()).collect()
 }
 
-/// A C float as `badarg` accepts it: sign, digits with optional fraction (or a fraction
-/// alone), optional exponent.
+/// A C float as `badarg` accepts it (`fskip`): sign, digits with optional fraction (or a
+/// fraction alone), optional exponent; nom's `recognize_float` has the same grammar.
 fn float_text(i: &str) -> IResult<&str, &str> {
-    recognize((
-        opt(one_of("+-")),
-        alt((
-            recognize((digit1, opt((char('.'), digit0)))),
-            recognize((char('.'), digit1)),
-        )),
-        opt((one_of("eE"), opt(one_of("+-")), digit1)),
-    ))
-    .parse(i)
+    recognize_float(i)
 }
 
 /// The value of a whole word, if it is a finite C float.
@@ -583,7 +575,7 @@ mod tests {
     fn display_round_trips() {
         let mut v = View::default();
         v.apply_str(
-            "-vts -vp 1.5 -2 1e-3 -vd 0.1 2 -0.3 -vu 0 0.2 1 -vh 123.456 -vv 98.7 -vo 0.25 -va 100 -vs -0.5 -vl 0.125",
+            "-vts -vp 1.5 -2 1e-3 -vd 0.1 2 -0.3 -vu 0 0.2 1 -vh 123.45 -vv 98.7 -vo 0.25 -va 100 -vs -0.5 -vl 0.125",
             "t",
         )
         .unwrap();
@@ -595,6 +587,14 @@ mod tests {
         .unwrap();
         assert_eq!(v, w);
         assert_eq!(w.to_string(), v.to_string());
+        // Radiance writes sizes with 5 significant digits: text is stable after one trip.
+        v.vh = 123.456789;
+        let mut w = View::default();
+        w.apply_str(&v.to_string(), "t").unwrap();
+        assert_eq!(w.vh, 123.46);
+        let mut x = View::default();
+        x.apply_str(&w.to_string(), "t").unwrap();
+        assert_eq!(x, w);
     }
 
     #[test]
