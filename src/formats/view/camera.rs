@@ -268,7 +268,8 @@ impl Camera {
         let v = &self.view;
         let x = x + v.vs - 0.5;
         let y = y + v.vl - 0.5;
-        let aft = v.va > FTINY;
+        // Length to the aft plane along the view axis (scaled for tilted rays below).
+        let aft = (v.va > FTINY).then_some(v.va - v.vo);
         let along = |z: f64, a: f64, b: f64| {
             add(
                 add(scale(self.vdir, z), scale(self.hvec, a)),
@@ -285,7 +286,7 @@ impl Camera {
                 Some(Ray {
                     org,
                     dir: self.vdir,
-                    max_dist: aft.then(|| v.va - v.vo),
+                    max_dist: aft,
                 })
             }
             ViewType::Perspective | ViewType::Cylindrical => {
@@ -302,7 +303,7 @@ impl Camera {
                 Some(Ray {
                     org,
                     dir,
-                    max_dist: aft.then(|| (v.va - v.vo) * len),
+                    max_dist: aft.map(|a| a * len),
                 })
             }
             ViewType::Hemispherical => {
@@ -314,7 +315,7 @@ impl Camera {
                 Some(Ray {
                     org: from_eye(dir),
                     dir,
-                    max_dist: aft.then(|| v.va - v.vo),
+                    max_dist: aft,
                 })
             }
             ViewType::Angular => {
@@ -335,7 +336,7 @@ impl Camera {
                 Some(Ray {
                     org: from_eye(dir),
                     dir,
-                    max_dist: aft.then(|| v.va - v.vo),
+                    max_dist: aft,
                 })
             }
             ViewType::Planisphere => {
@@ -347,7 +348,7 @@ impl Camera {
                 Some(Ray {
                     org: from_eye(dir),
                     dir,
-                    max_dist: aft.then(|| v.va - v.vo),
+                    max_dist: aft,
                 })
             }
         }

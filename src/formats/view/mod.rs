@@ -241,7 +241,7 @@ mod tests {
         assert_eq!(format_g(0.00001234, 5), "1.234e-05");
         assert_eq!(format_g(1234567.0, 7), "1234567");
         assert_eq!(format_g(12345678.0, 7), "1.234568e+07");
-        assert_eq!(format_g(0.70710678, 5), "0.70711");
+        assert_eq!(format_g(0.62831853, 5), "0.62832");
         assert_eq!(format_g(1e-300, 5), "1e-300");
     }
 
