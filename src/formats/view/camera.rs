@@ -492,6 +492,10 @@ impl Camera {
     /// computes for every view type (`pict_get_sangle`). Zero when a corner is outside the
     /// view (as evalglare), for parallel views, and outside the picture.
     ///
+    /// evalglare additionally ignores `-vta` pixels whose centre ray looks backwards
+    /// (`pict_is_validpixel`: `dir · vdir < 0`, the corners of a 180° angular image, where
+    /// Radiance still gives rays); callers that sum over a glare image should do the same.
+    ///
     /// evalglare sums the quadrilateral's angles (Girard); we add the areas of its two
     /// triangles with Van Oosterom & Strackee's formula (IEEE Trans. Biomed. Eng. 30, 1983),
     /// the same area without the cancellation of `Σ angles − 2π` for tiny pixels.
