@@ -276,3 +276,311 @@ impl MatrixInfo {
         })
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::io::Cursor;
+
+    /// A 3x4x3 matrix whose values need every bit of a double (and of a float once rounded).
+    fn sample(ncomp: usize) -> Matrix {
+        let mut m = Matrix::zeros(
+            3,
+            4,
+            Channels {
+                ncomp,
+                ..Channels::rgb()
+            },
+        );
+        for (i, v) in m.data.iter_mut().enumerate() {
+            *v = (i as f64 + 0.1).sqrt() * if i % 3 == 0 { -1e-7 } else { 12345.678 };
+        }
+        m
+    }
+
+    fn write(m: &Matrix, opts: WriteOptions) -> Vec<u8> {
+        let mut h = Header::new();
+        h.push_command(["rmtx", "-ff", "x"]);
+        m.write(Vec::new(), "t", h, opts).unwrap()
+    }
+
+    fn read(bytes: &[u8], opts: &ReadOptions) -> Result<Matrix> {
+        Matrix::from_reader(Cursor::new(bytes), "t.mtx", opts)
+    }
+
+    fn to_f32(m: &Matrix) -> Matrix {
+        let mut m = m.clone();
+        m.data.iter_mut().for_each(|v| *v = *v as f32 as f64);
+        m
+    }
+
+    #[test]
+    fn binary_round_trips_are_bit_exact_in_both_byte_orders_and_paddings() {
+        let m = sample(3);
+        for format in [DataFormat::Float, DataFormat::Double] {
+            for big in [false, true] {
+                for seekable in [false, true] {
+                    let mut o = WriteOptions::new(format);
+                    o.big_endian = big;
+                    o.seekable = seekable;
+                    let bytes = write(&m, o);
+                    let text = String::from_utf8_lossy(&bytes);
+                    assert!(text.contains(&format!("BigEndian={}\n", u8::from(big))));
+                    let header_len = text.find("\n\n").unwrap() + 2;
+                    if seekable {
+                        assert_eq!(header_len % format.elem_size(), 0, "{text}");
+                    } else {
+                        assert!(text.contains(&format!("FORMAT={}\n\n", format.name())));
+                    }
+                    let back = read(&bytes, &ReadOptions::default()).unwrap();
+                    let want = if format == DataFormat::Float {
+                        to_f32(&m)
+                    } else {
+                        m.clone()
+                    };
+                    assert_eq!(back.shape(), want.shape());
+                    for (a, b) in back.data.iter().zip(&want.data) {
+                        assert_eq!(a.to_bits(), b.to_bits());
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn ascii_round_trip_to_requested_digits() {
+        let m = sample(1);
+        let mut o = WriteOptions::new(DataFormat::Ascii);
+        o.ascii_digits = writer::DOUBLE_DIGITS;
+        let back = read(&write(&m, o), &ReadOptions::default()).unwrap();
+        assert_eq!(back, m, "17 significant digits round-trip f64 exactly");
+        let o = WriteOptions::new(DataFormat::Ascii);
+        let bytes = write(&m, o);
+        let text = String::from_utf8(bytes.clone()).unwrap();
+        // rmx_write_ascii layout: " %.7e" per component, TAB per element, newline per row.
+        let data = &text[text.find("\n\n").unwrap() + 2..];
+        assert!(data.starts_with(" -3.1622777e-08\t 1.2948"), "{data}");
+        assert_eq!(data.lines().count(), 3);
+        assert!(
+            data.lines()
+                .all(|l| l.matches('\t').count() == 4 && l.ends_with('\t'))
+        );
+        let back = read(&bytes, &ReadOptions::default()).unwrap();
+        assert!(back.max_rel_diff(&m, 0.0).unwrap() < 1e-7);
+    }
+
+    #[test]
+    fn variables_in_any_order_and_padding_ignored() {
+        let mut data =
+            b"#?RADIANCE\nFORMAT=float    \nBigEndian=1\nNCOLS=2\nNCOMP=1\nNROWS=1\n\n".to_vec();
+        data.extend_from_slice(&1.5f32.to_be_bytes());
+        data.extend_from_slice(&(-2.25f32).to_be_bytes());
+        let m = read(&data, &ReadOptions::default()).unwrap();
+        assert_eq!(m.data, vec![1.5, -2.25]);
+        assert_eq!(m.shape().to_string(), "1x2x1");
+    }
+
+    #[test]
+    fn missing_format_means_ascii_and_missing_nrows_reads_to_end() {
+        let m = read(
+            b"#?RADIANCE\nNCOLS=2\n\n1 2 3 4 5 6\n7 8 9 10 11 12\n",
+            &ReadOptions::default(),
+        )
+        .unwrap();
+        assert_eq!((m.nrows, m.ncols, m.ncomp()), (2, 2, 3));
+        assert_eq!(m.get(1, 0), &[7.0, 8.0, 9.0]);
+    }
+
+    #[test]
+    fn headerless_ascii_infers_ncols_from_first_line() {
+        let opts = ReadOptions {
+            ncomp: Some(1),
+            ..ReadOptions::default()
+        };
+        let m = read(b"1\t2\t3\t\n4\t5\t6\t\n", &opts).unwrap();
+        assert_eq!((m.nrows, m.ncols), (2, 3));
+        let e = read(b"1 2\n", &ReadOptions::default()).unwrap_err();
+        assert!(e.to_string().starts_with("t.mtx:1: no NCOLS given"), "{e}");
+    }
+
+    #[test]
+    fn headerless_binary_needs_format_and_ncols() {
+        let bytes: Vec<u8> = [1.0f64, 2.0, 3.0]
+            .iter()
+            .flat_map(|v| v.to_ne_bytes())
+            .collect();
+        let opts = ReadOptions {
+            format: Some(DataFormat::Double),
+            ncols: Some(1),
+            ..ReadOptions::default()
+        };
+        let m = read(&bytes, &opts).unwrap();
+        assert_eq!(m.data, vec![1.0, 2.0, 3.0]);
+        let e = read(
+            &bytes,
+            &ReadOptions {
+                ncols: None,
+                ..opts
+            },
+        )
+        .unwrap_err();
+        assert!(e.to_string().contains("no NCOLS"), "{e}");
+    }
+
+    #[test]
+    fn exposure_is_exposed_and_undone_on_request() {
+        let text = b"#?RADIANCE\nEXPOSURE=2\nCOLORCORR= 1 2 4\nNROWS=1\nNCOLS=1\n\n8 8 8\n";
+        let raw = read(text, &ReadOptions::default()).unwrap();
+        assert_eq!(raw.data, vec![8.0, 8.0, 8.0]);
+        let opts = ReadOptions {
+            undo_exposure: true,
+            ..ReadOptions::default()
+        };
+        let undone = read(text, &opts).unwrap();
+        assert_eq!(undone.data, vec![4.0, 2.0, 1.0]);
+        let r = MatrixReader::new(Cursor::new(&text[..]), "t", &opts).unwrap();
+        assert_eq!(r.info().exposure, 2.0);
+        assert_eq!(r.info().colorcorr, [1.0, 2.0, 4.0]);
+    }
+
+    #[test]
+    fn nrows_mismatch_is_reported() {
+        let m = sample(3);
+        let bytes = write(&m, WriteOptions::new(DataFormat::Float));
+        let short = &bytes[..bytes.len() - 4 * 12];
+        let e = read(short, &ReadOptions::default()).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "t.mtx: ends after row 2 of 3 (NROWS=3): truncated?"
+        );
+        let mut long = bytes.clone();
+        long.extend_from_slice(&[0; 4]);
+        let e = read(&long, &ReadOptions::default()).unwrap_err();
+        assert!(
+            e.to_string()
+                .starts_with("t.mtx: more data after row 3 of 3"),
+            "{e}"
+        );
+        let text = b"#?RADIANCE\nNROWS=1\nNCOLS=1\nNCOMP=1\n\n1\n\n2\n";
+        let e = read(text, &ReadOptions::default()).unwrap_err();
+        assert!(
+            e.to_string().starts_with("t.mtx:8: more data after row 1"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn picture_formats_are_recognised_but_unsupported() {
+        for f in ["32-bit_rle_rgbe", "32-bit_rle_xyze", "Radiance_spectra"] {
+            let text = format!("#?RADIANCE\nFORMAT={f}\n\n-Y 1 +X 1\n");
+            let e = read(text.as_bytes(), &ReadOptions::default()).unwrap_err();
+            assert!(matches!(e, Error::Unsupported { .. }), "{e}");
+            assert!(e.to_string().contains(f), "{e}");
+        }
+        let e = read(b"#?RADIANCE\nFORMAT=int16\n\n", &ReadOptions::default()).unwrap_err();
+        assert!(
+            e.to_string().starts_with("t.mtx:2: FORMAT=int16: expected"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn writer_checks_announced_rows() {
+        let mut w = MatrixWriter::new(
+            Vec::new(),
+            "out",
+            Header::new(),
+            Some(2),
+            1,
+            Channels::mono(),
+            WriteOptions::new(DataFormat::Ascii),
+        )
+        .unwrap();
+        w.write_row(&[1.0]).unwrap();
+        let e = w.finish().unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "out: 1 rows written but the header announced NROWS=2"
+        );
+    }
+
+    #[test]
+    fn transpose_moves_whole_elements() {
+        let m = sample(3);
+        let t = m.transpose();
+        assert_eq!((t.nrows, t.ncols), (4, 3));
+        for r in 0..3 {
+            for c in 0..4 {
+                assert_eq!(m.get(r, c), t.get(c, r));
+            }
+        }
+        assert_eq!(t.transpose(), m);
+    }
+
+    #[test]
+    fn every_truncated_prefix_is_an_error_or_fewer_rows_never_a_panic() {
+        let m = sample(3);
+        for format in [DataFormat::Float, DataFormat::Double, DataFormat::Ascii] {
+            let bytes = write(&m, WriteOptions::new(format));
+            // Where the last number starts: ascii prefixes that only cut its digits or the
+            // trailing white space still parse (text cannot tell), every other cut must fail.
+            let last = bytes[..bytes.len() - 2]
+                .iter()
+                .rposition(|b| b.is_ascii_whitespace())
+                .unwrap();
+            for n in 0..bytes.len() {
+                match read(&bytes[..n], &ReadOptions::default()) {
+                    Err(_) => {}
+                    Ok(got) => {
+                        assert!(format == DataFormat::Ascii && n > last + 1, "prefix {n}");
+                        assert_eq!(got.nrows, m.nrows);
+                    }
+                }
+            }
+            // Without NROWS a cut between rows is a shorter matrix, a cut inside a row an
+            // error.
+            let text = String::from_utf8_lossy(&bytes).replace("NROWS=3\n", "");
+            if format == DataFormat::Ascii {
+                let bytes = text.into_bytes();
+                for n in 0..bytes.len() {
+                    if let Ok(got) = read(&bytes[..n], &ReadOptions::default()) {
+                        assert!(got.nrows <= m.nrows, "prefix {n}");
+                    }
+                }
+            } else {
+                let find = |b: &[u8], pat: &[u8]| b.windows(pat.len()).position(|w| w == pat);
+                let mut bytes = bytes.clone();
+                let nrows_line = find(&bytes, b"NROWS=3\n").unwrap();
+                bytes.drain(nrows_line..nrows_line + 8);
+                let header = find(&bytes, b"\n\n").unwrap() + 2;
+                let row = m.row_len() * format.elem_size();
+                for n in header..bytes.len() {
+                    match read(&bytes[..n], &ReadOptions::default()) {
+                        Ok(got) => assert_eq!(got.nrows * row, n - header, "prefix {n}"),
+                        Err(e) => assert!((n - header) % row != 0, "prefix {n}: {e}"),
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn random_bytes_never_panic() {
+        // A small xorshift stream: garbage after a valid header, and garbage alone.
+        let mut x: u64 = 0x9E37_79B9_7F4A_7C15;
+        for round in 0..200 {
+            let mut data = if round % 2 == 0 {
+                b"#?RADIANCE\nNCOLS=3\nFORMAT=ascii\n\n".to_vec()
+            } else {
+                Vec::new()
+            };
+            for _ in 0..(round * 3) {
+                x ^= x << 13;
+                x ^= x >> 7;
+                x ^= x << 17;
+                data.push((x & 0xff) as u8);
+            }
+            let _ = read(&data, &ReadOptions::default());
+        }
+    }
+}
