@@ -67,9 +67,62 @@ pub fn open_input(path: &str) -> Result<Box<dyn BufRead>> {
 
 impl MatrixReader<Box<dyn BufRead>> {
     /// Open a file (or `-` for standard input) and read its header.
+    ///
+    /// For a regular binary file with NROWS, the data size is checked against the header
+    /// right away, so a truncated file or a wrong NCOLS is reported before a caller writes
+    /// any output (a stream can only be checked as it is read).
     pub fn open(path: &str, opts: &ReadOptions) -> Result<Self> {
-        let name = if path == "-" { "<stdin>" } else { path };
-        MatrixReader::new(open_input(path)?, name, opts)
+        if path == "-" {
+            return MatrixReader::new(open_input(path)?, "<stdin>", opts);
+        }
+        let f = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
+        let size = f.metadata().ok().filter(|m| m.is_file()).map(|m| m.len());
+        let counted = Counted {
+            inner: BufReader::with_capacity(1 << 16, f),
+            consumed: 0,
+        };
+        let m = MatrixReader::new(counted, path, opts)?;
+        if let (Some(size), Some(nrows)) = (size, m.info.nrows) {
+            let elem = m.info.format.elem_size() as u64;
+            if elem > 1 {
+                let data = size.saturating_sub(m.r.consumed);
+                m.check_size(data, nrows as u64, m.row_len() as u64 * elem)?;
+            }
+        }
+        Ok(MatrixReader {
+            r: Box::new(m.r.inner) as Box<dyn BufRead>,
+            name: m.name,
+            info: m.info,
+            rows_read: m.rows_read,
+            ascii: m.ascii,
+            bytes: m.bytes,
+            scale: m.scale,
+            finished: m.finished,
+        })
+    }
+}
+
+/// A buffered reader that counts the bytes consumed (the header length of a file).
+struct Counted<R> {
+    inner: R,
+    consumed: u64,
+}
+
+impl<R: BufRead> std::io::Read for Counted<R> {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        let n = self.inner.read(buf)?;
+        self.consumed += n as u64;
+        Ok(n)
+    }
+}
+
+impl<R: BufRead> BufRead for Counted<R> {
+    fn fill_buf(&mut self) -> std::io::Result<&[u8]> {
+        self.inner.fill_buf()
+    }
+    fn consume(&mut self, amt: usize) {
+        self.consumed += amt as u64;
+        self.inner.consume(amt);
     }
 }
 
@@ -193,28 +246,13 @@ impl<R: BufRead> MatrixReader<R> {
         if got == 0 {
             self.finished = true;
             return match self.info.nrows {
-                Some(n) => Err(Error::parse(
-                    Location::file(&self.name),
-                    format!(
-                        "ends after row {} of {n} (NROWS={n}): truncated?",
-                        self.rows_read
-                    ),
-                )),
+                Some(n) => Err(self.ends_after(self.rows_read, n)),
                 None => Ok(false),
             };
         }
         if got < want {
             self.finished = true;
-            return Err(Error::parse(
-                self.end_location(),
-                format!(
-                    "ends inside row {} ({got} of {want} {unit}; NCOLS={} NCOMP={}): \
-                     truncated, or wrong NCOLS/NCOMP?",
-                    self.rows_read + 1,
-                    self.info.ncols,
-                    self.info.channels.ncomp
-                ),
-            ));
+            return Err(self.ends_inside(self.rows_read + 1, got, want, unit));
         }
         if let Some(s) = &self.scale {
             let nc = s.len();
@@ -224,6 +262,61 @@ impl<R: BufRead> MatrixReader<R> {
         }
         self.rows_read += 1;
         Ok(true)
+    }
+
+    fn ends_after(&self, rows: usize, nrows: usize) -> Error {
+        Error::parse(
+            Location::file(&self.name),
+            format!("ends after row {rows} of {nrows} (NROWS={nrows}): truncated?"),
+        )
+    }
+
+    fn ends_inside(&self, row: usize, got: usize, want: usize, unit: &str) -> Error {
+        Error::parse(
+            self.end_location(),
+            format!(
+                "ends inside row {row} ({got} of {want} {unit}; NCOLS={} NCOMP={}): \
+                 truncated, or wrong NCOLS/NCOMP?",
+                self.info.ncols, self.info.channels.ncomp
+            ),
+        )
+    }
+
+    fn extra_data(&self, n: usize) -> Error {
+        Error::parse(
+            match &self.ascii {
+                Some(sc) => Location::line(&self.name, sc.line_no()),
+                None => Location::file(&self.name),
+            },
+            format!(
+                "more data after row {n} of {n} (NROWS={n}, NCOLS={}, NCOMP={}): \
+                 wrong NROWS or NCOLS?",
+                self.info.ncols, self.info.channels.ncomp
+            ),
+        )
+    }
+
+    /// Binary data of `data` bytes must hold exactly `nrows` rows of `row_bytes`; the
+    /// errors are those reading would give.
+    fn check_size(&self, data: u64, nrows: u64, row_bytes: u64) -> Result<()> {
+        let want = nrows.saturating_mul(row_bytes);
+        if data > want {
+            return Err(self.extra_data(nrows as usize));
+        }
+        if data < want && row_bytes > 0 {
+            let (rows, rest) = (data / row_bytes, data % row_bytes);
+            return Err(if rest == 0 {
+                self.ends_after(rows as usize, nrows as usize)
+            } else {
+                self.ends_inside(
+                    rows as usize + 1,
+                    rest as usize,
+                    row_bytes as usize,
+                    "bytes",
+                )
+            });
+        }
+        Ok(())
     }
 
     fn end_location(&self) -> Location {
@@ -293,17 +386,7 @@ impl<R: BufRead> MatrixReader<R> {
             }
         };
         if extra {
-            return Err(Error::parse(
-                match &self.ascii {
-                    Some(sc) => Location::line(&self.name, sc.line_no()),
-                    None => Location::file(&self.name),
-                },
-                format!(
-                    "more data after row {n} of {n} (NROWS={n}, NCOLS={}, NCOMP={}): \
-                     wrong NROWS or NCOLS?",
-                    self.info.ncols, self.info.channels.ncomp
-                ),
-            ));
+            return Err(self.extra_data(n));
         }
         Ok(())
     }
