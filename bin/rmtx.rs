@@ -28,7 +28,8 @@ Examples:
 /// With one input: convert it (format, -c, -s, -t). With several: multiply them left to
 /// right, per channel (RGB x RGB multiplies red by red, as dctimestep and rmtxop do); the
 /// first input is streamed row by row, the others are held in memory. Shapes and NCOMP of
-/// every input are checked before anything is written. -c, -s and -t apply to the result.
+/// every input are checked before anything is written. -c, -s and -t apply to the result
+/// wherever they appear (unlike rmtxop, where options before a matrix apply to that matrix).
 /// EXPOSURE=/COLORCORR= in input headers are divided out on load, as rmtxop does.
 #[derive(Parser, Debug)]
 #[command(name = "rmtx", disable_help_flag = true, after_help = EXAMPLES)]

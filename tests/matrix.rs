@@ -321,6 +321,26 @@ fn rmtx_products_match_dctimestep_and_rmtxop() {
         let r = rel(&b, &a);
         assert!(r <= 1e-5, "rmtx {mine:?} vs {prog} {theirs:?}: {r}");
     }
+    // Symbolic -c Y: ours is 179 x Radiance's CIE_rf/gf/bf (the brief's constants); rmtxop
+    // 6.0a uses its float-computed rgb2xyzmat row (47.45394 119.94894 11.59712), which is
+    // up to 1.2e-4 away, so: exact against the explicit constants, 2e-4 against `-c Y`.
+    let y = ours(&["-fa", "-c", "Y", "dc.mtx", "sky.mtx"]);
+    let explicit = real(
+        "rmtxop",
+        &[
+            "-fa",
+            "dc.mtx",
+            "sky.mtx",
+            "-c",
+            "47.44826855",
+            "119.95051895",
+            "11.60121250",
+        ],
+    );
+    assert!(rel(&y, &explicit) <= 1e-5, "{}", rel(&y, &explicit));
+    let sym = real("rmtxop", &["-fa", "dc.mtx", "sky.mtx", "-c", "Y"]);
+    let r = rel(&y, &sym);
+    assert!(r <= 2e-4 && r > 1e-6, "-c Y vs rmtxop -c Y: {r}");
     // Default output format follows rmtxop: float x double gives float.
     let out = common::run_ok(rmtx(d).args(["dc.mtx", "sky.mtx"]), b"");
     assert!(String::from_utf8_lossy(&out).contains("FORMAT=float"));
@@ -359,6 +379,51 @@ fn cat_stacks_row_blocks() {
     );
     let cat = parse(&out, "cat");
     assert_eq!(cat, all);
+}
+
+#[test]
+fn big_endian_and_headerless_inputs() {
+    use rdaylight::formats::header::Header;
+    use rdaylight::formats::matrix::WriteOptions;
+    if !common::have_radiance("rmtxop") {
+        return;
+    }
+    let t = common::tmpdir();
+    let d = t.path();
+    scene(d);
+    rcontrib(d, &["-y", "3", "-fad"], "dc.mtx");
+    let dc = load(d, "dc.mtx", &ReadOptions::default());
+    // Written in the other byte order than this machine's (BigEndian=1 on x86): rmtxop
+    // swaps it back, and so do we.
+    for format in [DataFormat::Float, DataFormat::Double] {
+        let mut o = WriteOptions::new(format);
+        o.big_endian = !cfg!(target_endian = "big");
+        let bytes = dc.write(Vec::new(), "swapped", Header::new(), o).unwrap();
+        let text = String::from_utf8_lossy(&bytes);
+        assert!(text.contains(&format!("BigEndian={}", u8::from(o.big_endian))));
+        let back = common::run_ok(common::radiance("rmtxop").args(["-fd", "-"]), &bytes);
+        // rmtxop 6.0a holds float internally: 1e-7 even for double; ours is exact for double.
+        let r = rel(&parse(&back, "rmtxop"), &dc);
+        assert!(r <= 1e-7, "rmtxop reading our swapped {format:?}: {r}");
+        let tol = if format == DataFormat::Float {
+            1e-7
+        } else {
+            0.0
+        };
+        let r = rel(&parse(&bytes, "ours"), &dc);
+        assert!(r <= tol, "reading our swapped {format:?}: {r}");
+    }
+    // Headerless rcontrib output through rmtx: -if with --ncols, -ia inferring NCOLS.
+    rcontrib(d, &["-h", "-faf", "-y", "3"], "h.f");
+    rcontrib(d, &["-h", "-faa"], "h.a");
+    for (args, tol) in [
+        (vec!["-if", "--ncols", "146", "-fd", "h.f"], 1e-7),
+        (vec!["-ia", "-fd", "h.a"], 1e-6),
+    ] {
+        let out = common::run_ok(rmtx(d).args(&args), b"");
+        let r = rel(&parse(&out, "rmtx"), &dc);
+        assert!(r <= tol, "{args:?}: {r}");
+    }
 }
 
 /// Run `rmtx` expecting failure: exit status 1, nothing on stdout, one line on stderr.

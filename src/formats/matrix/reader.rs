@@ -139,7 +139,13 @@ impl<R: BufRead> MatrixReader<R> {
                 if info.ncols == 0 {
                     let n = sc.count_first_line(&mut r, name)?;
                     let nc = info.channels.ncomp;
-                    if n == 0 || n % nc != 0 {
+                    if n == 0 {
+                        return Err(Error::parse(
+                            Location::file(name),
+                            "no data: expected ascii numbers after the header",
+                        ));
+                    }
+                    if n % nc != 0 {
                         return Err(Error::parse(
                             Location::line(name, sc.line_no().max(1)),
                             format!(

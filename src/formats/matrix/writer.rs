@@ -19,7 +19,7 @@ use crate::radiometry::Channels;
 use std::io::Write;
 
 /// How to write a matrix.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct WriteOptions {
     /// Data format (`-fa`, `-ff`, `-fd`).
     pub format: DataFormat,
