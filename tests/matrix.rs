@@ -234,6 +234,21 @@ fn real_radiance_reads_ours() {
         assert!(st.success());
         let piped = common::run_ok(rmtx(d).args([f, "dc.mtx"]), b"");
         let headerless = common::run_ok(rmtx(d).args([f, "-h", "dc.mtx"]), b"");
+        // fputformat's rule: a seekable file gets FORMAT padded to the element size, a pipe
+        // does not.
+        let in_file = std::fs::read(d.join(&name)).unwrap();
+        let header_len = in_file.len() - headerless.len();
+        let elem = match f {
+            "-ff" => 4,
+            "-fd" => 8,
+            _ => 1,
+        };
+        assert_eq!(header_len % elem, 0, "{f}: data starts at {header_len}");
+        if elem > 1 {
+            let name = if elem == 4 { "float" } else { "double" };
+            let text = String::from_utf8_lossy(&piped);
+            assert!(text.contains(&format!("\nFORMAT={name}\n\n")), "{text}");
+        }
         for (how, input) in [
             ("file", std::fs::read(d.join(&name)).unwrap()),
             ("pipe", piped),
