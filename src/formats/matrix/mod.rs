@@ -171,7 +171,8 @@ pub struct MatrixInfo {
 impl MatrixInfo {
     /// Numbers per row: `ncols * ncomp`.
     pub fn row_len(&self) -> usize {
-        self.ncols * self.channels.ncomp
+        // Saturating: absurd header values must reach the reader's size check, not overflow.
+        self.ncols.saturating_mul(self.channels.ncomp)
     }
 
     /// True when binary data must be byte-swapped to native order.
@@ -562,6 +563,14 @@ mod tests {
                 }
             }
         }
+    }
+
+    #[test]
+    fn absurd_sizes_are_errors_not_allocations() {
+        let text =
+            b"#?RADIANCE\nNCOLS=9223372036854775807\nNCOMP=9223372036854775807\nFORMAT=float\n\n";
+        let e = read(text, &ReadOptions::default()).unwrap_err();
+        assert!(e.to_string().contains("numbers per row: more than"), "{e}");
     }
 
     #[test]
