@@ -150,7 +150,8 @@ pub(crate) fn picture_unsupported(name: &str, format: DataFormat) -> Error {
 /// Everything the header of a matrix says, parsed.
 #[derive(Debug, Clone, PartialEq)]
 pub struct MatrixInfo {
-    /// `NROWS=`; `None` when absent (read rows to the end of the data).
+    /// `NROWS=`; `None` when absent (read rows to the end of the data). For a regular binary
+    /// file opened with [`MatrixReader::open`] it is derived from the file size instead.
     pub nrows: Option<usize>,
     /// `NCOLS=`.
     pub ncols: usize,

@@ -70,7 +70,8 @@ impl MatrixReader<Box<dyn BufRead>> {
     ///
     /// For a regular binary file with NROWS, the data size is checked against the header
     /// right away, so a truncated file or a wrong NCOLS is reported before a caller writes
-    /// any output (a stream can only be checked as it is read).
+    /// any output (a stream can only be checked as it is read). Without NROWS, a regular
+    /// binary file's size sets [`MatrixInfo::nrows`].
     pub fn open(path: &str, opts: &ReadOptions) -> Result<Self> {
         if path == "-" {
             return MatrixReader::new(open_input(path)?, "<stdin>", opts);
@@ -81,12 +82,25 @@ impl MatrixReader<Box<dyn BufRead>> {
             inner: BufReader::with_capacity(1 << 16, f),
             consumed: 0,
         };
-        let m = MatrixReader::new(counted, path, opts)?;
-        if let (Some(size), Some(nrows)) = (size, m.info.nrows) {
-            let elem = m.info.format.elem_size() as u64;
-            if elem > 1 {
-                let data = size.saturating_sub(m.r.consumed);
-                m.check_size(data, nrows as u64, m.row_len() as u64 * elem)?;
+        let mut m = MatrixReader::new(counted, path, opts)?;
+        let elem = m.info.format.elem_size() as u64;
+        let row_bytes = m.row_len() as u64 * elem;
+        if let (Some(size), true) = (size, elem > 1 && row_bytes > 0) {
+            let data = size.saturating_sub(m.r.consumed);
+            match m.info.nrows {
+                Some(nrows) => m.check_size(data, nrows as u64, row_bytes)?,
+                // No NROWS (rcontrib without -y): a regular file's size says how many rows
+                // it holds, so writers downstream can announce NROWS (rmtxop needs it).
+                None if data % row_bytes == 0 => m.info.nrows = Some((data / row_bytes) as usize),
+                None => {
+                    let (rows, rest) = (data / row_bytes, data % row_bytes);
+                    return Err(m.ends_inside(
+                        rows as usize + 1,
+                        rest as usize,
+                        row_bytes as usize,
+                        "bytes",
+                    ));
+                }
             }
         }
         Ok(MatrixReader {
