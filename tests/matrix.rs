@@ -346,6 +346,24 @@ fn rmtx_products_match_dctimestep_and_rmtxop() {
         let r = rel(&b, &a);
         within(&format!("rmtx {mine:?} vs {prog} {theirs:?}"), r, 1e-5);
     }
+    // A chain of three, left to right (dc streamed, T and sky in memory), against rmtxop.
+    // T is a made-up 146 x 146 RGB "transmission" with distinct channels.
+    let mut t = String::from("#?RADIANCE\nNROWS=146\nNCOLS=146\nNCOMP=3\nFORMAT=ascii\n\n");
+    for i in 0..146 {
+        for j in 0..146 {
+            let v = if i == j {
+                0.5
+            } else {
+                ((i * 31 + j * 17) % 13) as f64 * 1e-3
+            };
+            t.push_str(&format!("{v} {} {}\t", v * 0.8, v * 1.1));
+        }
+        t.push('\n');
+    }
+    std::fs::write(d.join("T.mtx"), t).unwrap();
+    let a = real("rmtxop", &["-fa", "dc.mtx", "T.mtx", "sky.mtx"]);
+    let b = ours(&["-fa", "dc.mtx", "T.mtx", "sky.mtx"]);
+    within("rmtx dc T sky vs rmtxop dc T sky", rel(&b, &a), 1e-5);
     // Symbolic -c Y: ours is 179 x Radiance's CIE_rf/gf/bf (the brief's constants); rmtxop
     // 6.0a uses its float-computed rgb2xyzmat row (47.45394 119.94894 11.59712), which is
     // up to 1.2e-4 away, so: exact against the explicit constants, 2e-4 against `-c Y`.
