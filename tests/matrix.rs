@@ -483,6 +483,39 @@ fn big_endian_and_headerless_inputs() {
     }
 }
 
+#[test]
+fn exposure_is_divided_out_like_rmtxop() {
+    if !common::have_radiance("rmtxop") {
+        return;
+    }
+    let t = common::tmpdir();
+    let d = t.path();
+    std::fs::write(
+        d.join("e.mtx"),
+        "#?RADIANCE\nEXPOSURE=2\nCOLORCORR= 1 2 4\nNROWS=2\nNCOLS=2\nNCOMP=3\n\
+         FORMAT=ascii\n\n1 2 3 4 5 6\n7 8 9 10 11 12\n",
+    )
+    .unwrap();
+    let theirs = parse(
+        &common::run_ok(
+            common::radiance("rmtxop")
+                .current_dir(d)
+                .args(["-fa", "e.mtx"]),
+            b"",
+        ),
+        "rmtxop",
+    );
+    let out = common::run_ok(rmtx(d).args(["-fa", "e.mtx"]), b"");
+    let mine = parse(&out, "rmtx");
+    assert_eq!(mine.get(0, 0), &[0.5, 0.5, 0.375]); // 1/(2x1), 2/(2x2), 3/(2x4)
+    within(
+        "rmtx vs rmtxop undoing EXPOSURE/COLORCORR",
+        rel(&mine, &theirs),
+        1e-7,
+    );
+    assert!(!String::from_utf8_lossy(&out).contains("EXPOSURE"));
+}
+
 /// Run `rmtx` expecting failure: exit status 1, nothing on stdout, one line on stderr.
 fn fails(dir: &Path, args: &[&str], stdin: &[u8]) -> String {
     let out = common::run(rmtx(dir).args(args), stdin);
