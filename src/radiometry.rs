@@ -19,6 +19,49 @@ pub const WHITE_EFFICACY: f64 = 179.0;
 /// `CIE_rf/CIE_gf/CIE_bf`). `179 * (w . rgb)` is luminance or illuminance.
 pub const RGB_PHOTOPIC: [f64; 3] = [0.265074126, 0.670114631, 0.064811243];
 
+/// Radiance's standard primaries `STDPRIMS` (`src/common/color.h`): x,y of R, G, B, white
+/// (equal-energy white, not D65).
+pub const STD_PRIMARIES: [f64; 8] = [
+    0.640,
+    0.330,
+    0.290,
+    0.600,
+    0.150,
+    0.060,
+    1.0 / 3.0,
+    1.0 / 3.0,
+];
+
+/// RGB to CIE XYZ for the given primaries (`x y` of R, G, B, white), scaled so that white
+/// RGB (1,1,1) has Y = 1: the standard construction (e.g. Hunt, *The Reproduction of Colour*,
+/// or Radiance's `compxyz2rgbmat`). Row 1 (Y) for Radiance's standard primaries is
+/// (0.265106, 0.670106, 0.064788): what `rmtxop -c Y` uses (x 179), slightly different from
+/// `CIE_rf/gf/bf` ([`RGB_PHOTOPIC`]), which Radiance's renderers use for luminance.
+pub fn rgb_to_xyz(p: &[f64; 8]) -> [[f64; 3]; 3] {
+    let col = |x: f64, y: f64| [x / y, 1.0, (1.0 - x - y) / y];
+    let m = [col(p[0], p[1]), col(p[2], p[3]), col(p[4], p[5])];
+    let w = col(p[6], p[7]);
+    // Solve M s = w for the primaries' scale factors (Cramer's rule on the 3x3 system whose
+    // columns are the primaries' XYZ).
+    let det3 = |a: [f64; 3], b: [f64; 3], c: [f64; 3]| {
+        a[0] * (b[1] * c[2] - b[2] * c[1]) - b[0] * (a[1] * c[2] - a[2] * c[1])
+            + c[0] * (a[1] * b[2] - a[2] * b[1])
+    };
+    let d = det3(m[0], m[1], m[2]);
+    let s = [
+        det3(w, m[1], m[2]) / d,
+        det3(m[0], w, m[2]) / d,
+        det3(m[0], m[1], w) / d,
+    ];
+    let mut out = [[0.0; 3]; 3];
+    for (row, out_row) in out.iter_mut().enumerate() {
+        for (j, v) in out_row.iter_mut().enumerate() {
+            *v = m[j][row] * s[j];
+        }
+    }
+    out
+}
+
 /// The rounded weights most pipelines use (`rmtxop -c 47.4 119.9 11.6` = 179 x .265/.670/.065).
 pub const RGB_PHOTOPIC_ROUNDED: [f64; 3] = [0.265, 0.670, 0.065];
 
@@ -140,6 +183,16 @@ mod tests {
                 .any(|l| l == "WAVELENGTH_SPLITS= 780 588 480 380")
         );
         assert_eq!(Channels::from_header(&h, "t").unwrap(), c);
+    }
+
+    #[test]
+    fn std_rgb_to_y_matches_rmtxop() {
+        // `rmtxop -c Y` on RGB printed 47.45394 119.94894 11.59712 (radiance-notes.md §0).
+        let y = rgb_to_xyz(&STD_PRIMARIES)[1];
+        for (got, want) in y.iter().zip([47.45394, 119.94894, 11.59712]) {
+            assert!((got * WHITE_EFFICACY - want).abs() < 1e-4, "{got}");
+        }
+        assert!((y.iter().sum::<f64>() - 1.0).abs() < 1e-12);
     }
 
     #[test]

@@ -16,7 +16,7 @@
 
 use super::Matrix;
 use crate::error::{Error, Result};
-use crate::radiometry::{RGB_PHOTOPIC, WHITE_EFFICACY};
+use crate::radiometry::{STD_PRIMARIES, WHITE_EFFICACY, rgb_to_xyz};
 use std::fmt;
 
 /// Matrix dimensions; `nrows` is unknown for streams without `NROWS=`.
@@ -137,8 +137,10 @@ impl ChannelTransform {
                     row["RGB".find(c.to_ascii_uppercase()).unwrap_or(0)] = 1.0;
                 }
                 'Y' | 'y' if nin == 3 => {
+                    // rmtxop's `-c Y` is row Y of rgb2xyzmat for the standard primaries
+                    // (x 179 for upper case), not the renderers' CIE_rf/gf/bf.
                     let cf = if c == 'Y' { WHITE_EFFICACY } else { 1.0 };
-                    for (r, w) in row.iter_mut().zip(RGB_PHOTOPIC) {
+                    for (r, w) in row.iter_mut().zip(rgb_to_xyz(&STD_PRIMARIES)[1]) {
                         *r = cf * w;
                     }
                 }
