@@ -245,6 +245,7 @@ fn rtrace_reads_our_sensor_files() {
         worst = worst.max(rel);
     }
     eprintln!("rtrace vs analytic sphere irradiance: worst relative difference {worst:.2e}");
-    // Radiance samples the sphere's projected disc; measured agreement is far below 1 %.
-    assert!(worst < 0.01, "worst relative difference {worst}");
+    // Measured 4.0e-5 (rtrace prints 7 digits and samples the sphere's disc); 1e-3 leaves
+    // room for sampling changes while still catching a wrong origin/direction or record.
+    assert!(worst < 1e-3, "worst relative difference {worst}");
 }

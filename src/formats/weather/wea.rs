@@ -34,7 +34,7 @@ use super::{
 use crate::error::{Error, Location, Result};
 use nom::{
     IResult, Parser,
-    bytes::complete::{tag, tag_no_case, take_while1},
+    bytes::complete::{tag, tag_no_case, take_while, take_while1},
     character::complete::space0,
     multi::many0,
     sequence::delimited,
@@ -85,12 +85,13 @@ fn keyword_line<'a>(line: &'a str, keyword: &str) -> IResult<&'a str, &'a str> {
     Ok(("", rest))
 }
 
-/// The whitespace-separated tokens of a data row.
+/// The white-space separated tokens of a data row (any ASCII white space, as `fscanf`).
 fn tokens(line: &str) -> IResult<&str, Vec<&str>> {
+    let ws = |c: char| c.is_ascii_whitespace();
     many0(delimited(
-        space0,
-        take_while1(|c: char| !c.is_ascii_whitespace()),
-        space0,
+        take_while(ws),
+        take_while1(move |c: char| !ws(c)),
+        take_while(ws),
     ))
     .parse(line)
 }
@@ -158,7 +159,10 @@ pub fn parse(text: &str, file: &str) -> Result<Weather> {
     let mut steps = Vec::new();
     for (lno, line) in lines {
         let at = || Location::line(file, lno);
-        let (_, toks) = tokens(line).map_err(|_| Error::parse(at(), "unreadable data row"))?;
+        let toks = match tokens(line) {
+            Ok(("", toks)) => toks,
+            _ => return Err(Error::parse(at(), "unreadable data row")),
+        };
         if toks.is_empty() {
             continue;
         }
