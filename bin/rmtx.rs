@@ -34,10 +34,11 @@ Examples:
 #[derive(Parser, Debug)]
 #[command(name = "rmtx", disable_help_flag = true, after_help = EXAMPLES)]
 struct Cli {
-    /// Output format a|f|d (-fa ascii, -ff float, -fd double; rmtxop -f). Default: the
+    /// Output format a|f|d|c (-fa ascii, -ff float, -fd double, -fc RGBE picture rows or
+    /// Radiance_spectra for NCOMP > 3; rmtxop -f). Default: the
     /// lowest-precision input format in Radiance's order (float < ascii < double), i.e. a
     /// single input keeps its own format.
-    #[arg(short = 'f', value_name = "a|f|d")]
+    #[arg(short = 'f', value_name = "a|f|d|c")]
     format: Option<String>,
 
     /// Write no header (Radiance -h).
@@ -210,7 +211,11 @@ fn real_main() -> Result<(), Error> {
     let mut ops = RowOps::new(ncomp, chain, transform, factors);
     let out_ncols = ops.out_ncols(ncols);
 
-    let format = format_opt(&cli.format, "-f")?.unwrap_or(in_format);
+    let mut format = format_opt(&cli.format, "-f")?.unwrap_or(in_format);
+    // -fc: RGBE for 1 or 3 components, Radiance_spectra beyond (as rmtxop -fc).
+    if format == DataFormat::Rgbe && out_ncomp > 3 {
+        format = DataFormat::Spectra;
+    }
     let mut wopts = WriteOptions::new(format);
     wopts.header = !cli.no_header;
     wopts.seekable = stdout_is_file();

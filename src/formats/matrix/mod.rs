@@ -134,19 +134,6 @@ impl DataFormat {
     }
 }
 
-/// The error for picture-coded matrices until the picture codec is wired in.
-pub(crate) fn picture_unsupported(name: &str, format: DataFormat) -> Error {
-    // TODO(merge): decode/encode 32-bit_rle_rgbe, 32-bit_rle_xyze and Radiance_spectra rows
-    // with the scanline codec of `formats::picture` (one scanline per matrix row, notes §2.2).
-    Error::unsupported(
-        Location::file(name),
-        format!(
-            "matrix data format '{}' (picture-coded rows; use ascii, float or double)",
-            format.name()
-        ),
-    )
-}
-
 /// Everything the header of a matrix says, parsed.
 #[derive(Debug, Clone, PartialEq)]
 pub struct MatrixInfo {
@@ -244,7 +231,28 @@ impl MatrixInfo {
             ));
         }
         if format.is_picture() {
-            return Err(picture_unsupported(name, format));
+            // Picture-coded rows (notes §2.2): the size comes from the resolution string
+            // after the header, read by `MatrixReader`; RGBE/XYZE carry 3 components.
+            if format != DataFormat::Spectra && channels.ncomp != 3 {
+                return Err(Error::parse(
+                    line_of("NCOMP"),
+                    format!(
+                        "NCOMP={} in a {} matrix: expected 3",
+                        channels.ncomp,
+                        format.name()
+                    ),
+                ));
+            }
+            return Ok(MatrixInfo {
+                nrows,
+                ncols: ncols.unwrap_or(0),
+                channels,
+                format,
+                big_endian,
+                exposure,
+                colorcorr,
+                header,
+            });
         }
         let ncols = match ncols {
             Some(0) => {
@@ -472,13 +480,47 @@ mod tests {
     }
 
     #[test]
-    fn picture_formats_are_recognised_but_unsupported() {
-        for f in ["32-bit_rle_rgbe", "32-bit_rle_xyze", "Radiance_spectra"] {
-            let text = format!("#?RADIANCE\nFORMAT={f}\n\n-Y 1 +X 1\n");
-            let e = read(text.as_bytes(), &ReadOptions::default()).unwrap_err();
-            assert!(matches!(e, Error::Unsupported { .. }), "{e}");
-            assert!(e.to_string().contains(f), "{e}");
+    fn picture_coded_rows_round_trip_and_fail_cleanly() {
+        // RGBE and spectral rows written and read back (values exact to the 8-bit mantissa:
+        // 0.5 and 0.25 are exactly representable); a row cut short is a one-line error.
+        for (f, nc) in [(DataFormat::Rgbe, 3), (DataFormat::Spectra, 6)] {
+            let channels = Channels {
+                ncomp: nc,
+                ..Channels::rgb()
+            };
+            let mut w = MatrixWriter::new(
+                Vec::new(),
+                "out",
+                Header::new(),
+                Some(2),
+                20,
+                channels,
+                WriteOptions::new(f),
+            )
+            .unwrap();
+            let row: Vec<f64> = (0..20 * nc)
+                .map(|i| if i % 2 == 0 { 0.5 } else { 0.25 })
+                .collect();
+            w.write_row(&row).unwrap();
+            w.write_row(&row).unwrap();
+            let bytes = w.finish().unwrap();
+            let m = read(&bytes, &ReadOptions::default()).unwrap();
+            assert_eq!((m.nrows, m.ncols, m.channels.ncomp), (2, 20, nc));
+            // Radiance decodes a mantissa m as (m + 0.5) / 256 of the element's scale: with a
+            // shared scale of 1 (max 0.5 = 128/256) every value reads back 1/512 high.
+            let want: Vec<f64> = row.iter().map(|v| v + 1.0 / 512.0).collect();
+            assert_eq!(m.row(1), &want[..]);
+            for cut in [bytes.len() - 1, bytes.len() / 2] {
+                let e = read(&bytes[..cut], &ReadOptions::default()).unwrap_err();
+                assert!(e.to_string().starts_with("t.mtx"), "{e}");
+            }
         }
+        let e = read(
+            b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n+Y 1 +X 1\nxxxx",
+            &ReadOptions::default(),
+        )
+        .unwrap_err();
+        assert!(e.to_string().contains("standard orientation"), "{e}");
         let e = read(b"#?RADIANCE\nFORMAT=int16\n\n", &ReadOptions::default()).unwrap_err();
         assert!(
             e.to_string().starts_with("t.mtx:2: FORMAT=int16: expected"),

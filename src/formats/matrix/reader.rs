@@ -14,9 +14,11 @@
 //!   ends inside a row is an error naming the row and how many numbers it got.
 
 use super::ascii::AsciiScanner;
-use super::{DataFormat, MatrixInfo, picture_unsupported};
+use super::{DataFormat, MatrixInfo};
 use crate::error::{Error, Location, Result};
 use crate::formats::header::Header;
+use crate::formats::picture::resolution::{Resolution, STANDARD};
+use crate::formats::picture::{color, scanline, spectral};
 use std::io::{BufRead, BufReader};
 
 /// Largest row we accept (numbers): a bound against absurd `NCOLS` in a damaged header,
@@ -173,7 +175,23 @@ impl<R: BufRead> MatrixReader<R> {
                 ascii = Some(sc);
             }
             DataFormat::Float | DataFormat::Double => {}
-            f => return Err(picture_unsupported(name, f)),
+            _ => {
+                // One scanline per row; like rmtxop, only the standard orientation, where
+                // scanlines are rows and pixels are columns.
+                let res = Resolution::read(&mut r, name, data_line)?;
+                if res.order != STANDARD {
+                    return Err(Error::parse(
+                        Location::line(name, data_line),
+                        format!(
+                            "resolution '{}' is not the standard orientation (-Y rows +X \
+                             columns) a matrix needs",
+                            res.to_line().trim_end()
+                        ),
+                    ));
+                }
+                info.nrows = Some(res.num_scans());
+                info.ncols = res.scan_len();
+            }
         }
         if info.row_len() > MAX_ROW_LEN {
             return Err(Error::parse(
@@ -193,8 +211,10 @@ impl<R: BufRead> MatrixReader<R> {
             None
         };
         let bytes = match info.format {
-            DataFormat::Ascii => Vec::new(),
-            f => vec![0u8; info.row_len() * f.elem_size()],
+            DataFormat::Float | DataFormat::Double => {
+                vec![0u8; info.row_len() * info.format.elem_size()]
+            }
+            _ => Vec::new(),
         };
         Ok(MatrixReader {
             r,
@@ -261,7 +281,7 @@ impl<R: BufRead> MatrixReader<R> {
             DataFormat::Float | DataFormat::Double => {
                 (self.read_binary_row(buf)?, self.bytes.len(), "bytes")
             }
-            f => return Err(picture_unsupported(&self.name, f)),
+            _ => (self.read_picture_row(buf)?, buf.len(), "values"),
         };
         if got == 0 {
             self.finished = true;
@@ -393,6 +413,46 @@ impl<R: BufRead> MatrixReader<R> {
             }
         }
         Ok(self.bytes.len())
+    }
+
+    /// A picture-coded row (RGBE/XYZE scanline, or flat spectral scanline): numbers read, 0
+    /// at a clean end of data. Encoding errors are reported with the row.
+    fn read_picture_row(&mut self, buf: &mut [f64]) -> Result<usize> {
+        if self
+            .r
+            .fill_buf()
+            .map_err(|e| Error::io(&self.name, e))?
+            .is_empty()
+        {
+            return Ok(0);
+        }
+        let row = self.rows_read + 1;
+        let bad = |e: scanline::ScanlineError| {
+            Error::parse(Location::file(&self.name), format!("row {row}: {e}"))
+        };
+        if self.info.format == DataFormat::Spectra {
+            let mut vals = vec![0f32; buf.len()];
+            spectral::read_scanline(
+                &mut self.r,
+                self.info.channels.ncomp,
+                &mut self.bytes,
+                &mut vals,
+            )
+            .map_err(bad)?;
+            for (d, v) in buf.iter_mut().zip(vals) {
+                *d = v as f64;
+            }
+        } else {
+            let mut colrs = vec![[0u8; 4]; self.info.ncols];
+            scanline::read_colrs(&mut self.r, &mut colrs).map_err(bad)?;
+            for (d, c) in buf.chunks_exact_mut(3).zip(colrs) {
+                let v = color::decode_rgbe(c);
+                for k in 0..3 {
+                    d[k] = v[k] as f64;
+                }
+            }
+        }
+        Ok(buf.len())
     }
 
     /// After NROWS rows nothing but (ascii) white space may follow.

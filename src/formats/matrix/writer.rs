@@ -12,9 +12,11 @@
 //! digits, which round-trips any f64). Float output rounds each f64 to the nearest f32.
 
 use super::ascii::push_e;
-use super::{DataFormat, Shape, picture_unsupported};
+use super::{DataFormat, Shape};
 use crate::error::{Error, Location, Result};
 use crate::formats::header::Header;
+use crate::formats::picture::resolution::Resolution;
+use crate::formats::picture::{color, scanline, spectral};
 use crate::radiometry::Channels;
 use std::io::Write;
 
@@ -73,8 +75,24 @@ impl<W: Write> MatrixWriter<W> {
         channels: Channels,
         opts: WriteOptions,
     ) -> Result<Self> {
-        if opts.format.is_picture() {
-            return Err(picture_unsupported(name, opts.format));
+        let picture = opts.format.is_picture();
+        if picture {
+            // Picture-coded rows need the row count up front for the resolution string, and
+            // RGBE/XYZE hold 3 components (1 is written as grey, as rmtxop does).
+            if nrows.is_none() {
+                return Err(Error::Usage(format!(
+                    "{name}: a {} matrix needs its number of rows in advance; write \
+                     float or double instead",
+                    opts.format.name()
+                )));
+            }
+            if opts.format != DataFormat::Spectra && !matches!(channels.ncomp, 1 | 3) {
+                return Err(Error::Usage(format!(
+                    "{name}: {} holds 1 or 3 components, not NCOMP={}; use -fa, -ff or -fd",
+                    opts.format.name(),
+                    channels.ncomp
+                )));
+            }
         }
         if opts.header {
             for k in [
@@ -87,11 +105,15 @@ impl<W: Write> MatrixWriter<W> {
             ] {
                 header.remove(k);
             }
-            if let Some(n) = nrows {
-                header.set("NROWS", n);
+            if !picture {
+                if let Some(n) = nrows {
+                    header.set("NROWS", n);
+                }
+                header.set("NCOLS", ncols);
             }
-            header.set("NCOLS", ncols);
-            channels.to_header(&mut header);
+            if opts.format == DataFormat::Spectra || !picture {
+                channels.to_header(&mut header);
+            }
             let binary = matches!(opts.format, DataFormat::Float | DataFormat::Double);
             if binary {
                 header.set("BigEndian", u8::from(opts.big_endian));
@@ -104,6 +126,12 @@ impl<W: Write> MatrixWriter<W> {
             };
             header
                 .write(&mut w, align)
+                .map_err(|e| Error::io(name, e))?;
+        }
+        if picture {
+            // The resolution string follows the header even with -h (it is part of the data).
+            let res = Resolution::standard(ncols, nrows.unwrap_or(0));
+            w.write_all(res.to_line().as_bytes())
                 .map_err(|e| Error::io(name, e))?;
         }
         Ok(MatrixWriter {
@@ -177,7 +205,28 @@ impl<W: Write> MatrixWriter<W> {
                         .extend_from_slice(&if be { v.to_be_bytes() } else { v.to_le_bytes() });
                 }
             }
-            f => return Err(picture_unsupported(&self.name, f)),
+            DataFormat::Spectra => {
+                let vals: Vec<f32> = row.iter().map(|&v| v as f32).collect();
+                let mut bytes = Vec::new();
+                spectral::write_scanline(&mut self.out, self.shape.ncomp, &vals, &mut bytes)
+                    .map_err(|e| Error::io(&self.name, e))?;
+            }
+            _ => {
+                let nc = self.shape.ncomp;
+                let colrs: Vec<[u8; 4]> = row
+                    .chunks_exact(nc)
+                    .map(|e| {
+                        let (r, g, b) = if nc == 1 {
+                            (e[0], e[0], e[0])
+                        } else {
+                            (e[0], e[1], e[2])
+                        };
+                        color::encode_rgbe(r as f32, g as f32, b as f32)
+                    })
+                    .collect();
+                scanline::write_colrs(&mut self.out, &colrs)
+                    .map_err(|e| Error::io(&self.name, e))?;
+            }
         }
         self.w
             .write_all(&self.out)
