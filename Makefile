@@ -29,10 +29,10 @@ build:
 example: build
 	@mkdir -p $(OUT)
 	$(BIN)/rinfo $(ROOM)/room.rad $(ROOM)/sensors.pts $(EPW)
-	$(BIN)/rmtx -ff $(FIX)/dc/office_mf1.mtx > $(OUT)/dc.float.mtx
+	$(BIN)/rmtx -ff $(FIX)/dc/office_m1.mtx > $(OUT)/dc.float.mtx
 	$(BIN)/rmtx -fd $(OUT)/dc.float.mtx > $(OUT)/dc.double.mtx
 	$(BIN)/rmtx -fa $(OUT)/dc.double.mtx > $(OUT)/dc.ascii.mtx
-	$(BIN)/rmtx -c 47.4 119.9 11.6 $(OUT)/dc.ascii.mtx $(FIX)/sky/london_4days_mf1.mtx > $(OUT)/illuminance.mtx
+	$(BIN)/rmtx -c 47.4 119.9 11.6 $(OUT)/dc.ascii.mtx $(FIX)/sky/london_4days_m1.smx > $(OUT)/illuminance.mtx
 	$(BIN)/rinfo --stats $(OUT)/illuminance.mtx
 
 # Installs real Radiance (pyradiance) when missing, then runs every test: unit, format
