@@ -231,7 +231,7 @@ impl SkyState {
 /// previous mean stays in use (WEA files: always [`DEFAULT_DEW_POINT`]).
 #[derive(Debug, Clone, Copy)]
 pub struct DewPointMean {
-    hist: Option<[f64; 2]>,
+    hist: Option<[f32; 2]>,
     current: f64,
 }
 
@@ -254,9 +254,10 @@ impl DewPointMean {
     pub fn next(&mut self, dew_point: Option<f64>) -> f64 {
         match dew_point {
             Some(t) => {
-                let t = t as f32 as f64;
+                let t = t as f32;
                 let h = self.hist.unwrap_or([t, t]);
-                self.current = (1.0 / 3.0) * (h[0] + h[1] + t);
+                // C adds the three floats in float precision before scaling in double.
+                self.current = (1.0 / 3.0) * f64::from(h[0] + h[1] + t);
                 self.hist = Some([h[1], t]);
             }
             None => self.hist = None,
