@@ -1180,3 +1180,200 @@ fn cie_overcast_and_clear_shapes() {
     assert_eq!(rdaylight::sky::cie::c_exp(6.879e6, 3), "6.879e+06");
     assert_eq!(rdaylight::sky::cie::c_exp(0.0123, 3), "1.230e-02");
 }
+
+// ---------------------------------------------------------------------------------------
+// gendaylit natively
+// ---------------------------------------------------------------------------------------
+
+use rdaylight::sky::gendaylit::{GendaylitInput, GendaylitOptions, GendaylitOutput, GendaylitSky};
+
+/// Half a unit in the last place of C's `%.3e` for `x`.
+fn half_ulp_e3(x: f64) -> f64 {
+    if x == 0.0 {
+        return 5e-4;
+    }
+    0.5e-3 * 10f64.powf(x.abs().log10().floor())
+}
+
+#[test]
+fn live_gendaylit_arguments_match_gendaylit() {
+    if !common::have_radiance("live_gendaylit_arguments_match_gendaylit") {
+        return;
+    }
+    use GendaylitInput::*;
+    let site = Site {
+        latitude: 51.15,
+        longitude_west: 0.18,
+        meridian_west: 0.0,
+    };
+    // (command line, date or -ang, options)
+    let w = |d, f| DirectNormalIrradiance {
+        direct: d,
+        diffuse: f,
+    };
+    let cases: Vec<(&str, GendaylitOptions)> = vec![
+        (
+            "6 21 12.5 -W 600 150",
+            GendaylitOptions::new(w(600.0, 150.0)),
+        ),
+        ("12 21 10.5 -W 0 80", GendaylitOptions::new(w(0.0, 80.0))),
+        (
+            "4 2 17.5 -W 250 200",
+            GendaylitOptions::new(w(250.0, 200.0)),
+        ),
+        ("10 10 7.5 -W 50 40", GendaylitOptions::new(w(50.0, 40.0))),
+        ("8 3 9.25 -W 820 90", GendaylitOptions::new(w(820.0, 90.0))),
+        (
+            "3 15 9 -L 60000 20000",
+            GendaylitOptions::new(DirectNormalIlluminance {
+                direct: 60000.0,
+                diffuse: 20000.0,
+            }),
+        ),
+        (
+            "9 10 14 -G 300 100",
+            GendaylitOptions::new(DirectHorizontalIrradiance {
+                direct: 300.0,
+                diffuse: 100.0,
+            }),
+        ),
+        (
+            "7 1 13 -E 700",
+            GendaylitOptions::new(GlobalHorizontalIrradiance(700.0)),
+        ),
+        (
+            "5 5 11 -P 3.2 0.25",
+            GendaylitOptions::new(Perez {
+                epsilon: 3.2,
+                delta: 0.25,
+            }),
+        ),
+        (
+            "5 5 11 -P 1.1 0.1",
+            GendaylitOptions::new(Perez {
+                epsilon: 1.1,
+                delta: 0.1,
+            }),
+        ),
+        (
+            "6 21 12.5 -W 600 150 -O 1",
+            GendaylitOptions {
+                output: GendaylitOutput::Solar,
+                ..GendaylitOptions::new(w(600.0, 150.0))
+            },
+        ),
+        (
+            "6 21 12.5 -W 600 150 -O 2",
+            GendaylitOptions {
+                output: GendaylitOutput::Luminance,
+                ..GendaylitOptions::new(w(600.0, 150.0))
+            },
+        ),
+        (
+            "6 21 12.5 -W 600 150 -s",
+            GendaylitOptions {
+                sun: false,
+                ..GendaylitOptions::new(w(600.0, 150.0))
+            },
+        ),
+        (
+            "8 15 10 -W 400 100 -g 0.35 -d 18",
+            GendaylitOptions {
+                ground_reflectance: 0.35,
+                dew_point: 18.0,
+                ..GendaylitOptions::new(w(400.0, 100.0))
+            },
+        ),
+        (
+            "2 14 12 -c -W 200 100",
+            GendaylitOptions {
+                cloudy: true,
+                sun: false,
+                ..GendaylitOptions::new(w(200.0, 100.0))
+            },
+        ),
+        ("12 21 3 -W 0 0", GendaylitOptions::new(w(0.0, 0.0))),
+        ("11 5 12 -W 1400 50", GendaylitOptions::new(w(1400.0, 50.0))),
+        (
+            "-ang 70 20 -W 800 100",
+            GendaylitOptions::new(w(800.0, 100.0)),
+        ),
+        (
+            "-ang 88.5 10 -W 800 100",
+            GendaylitOptions::new(w(800.0, 100.0)),
+        ),
+    ];
+    let mut exact_fields = 0;
+    let mut total_fields = 0;
+    let mut rel_a1 = vec![];
+    for (cmd, o) in &cases {
+        let mut args: Vec<&str> = cmd.split_whitespace().collect();
+        let ang = args[0] == "-ang";
+        if !ang {
+            args.extend(["-a", "51.15", "-o", "0.18", "-m", "0"]);
+        }
+        let out = common::run_ok(common::radiance("gendaylit").args(&args), b"");
+        let text = String::from_utf8_lossy(&out).to_string();
+        let sky = if ang {
+            let alt: f64 = args[1].parse().unwrap();
+            let azi: f64 = args[2].parse().unwrap();
+            GendaylitSky::new(alt.to_radians(), azi.to_radians(), 0.0, o)
+        } else {
+            GendaylitSky::for_date(
+                &site,
+                args[0].parse().unwrap(),
+                args[1].parse().unwrap(),
+                args[2].parse().unwrap(),
+                false,
+                None,
+                o,
+            )
+            .1
+        };
+        let line = text.lines().find(|l| l.starts_with("10 ")).unwrap();
+        let real: Vec<f64> = numbers_loose(line)[1..].to_vec();
+        let msg = format!("gendaylit {cmd}\n{text}\nours: {sky:?}");
+        assert_eq!(real.len(), 10, "{msg}");
+        for k in 0..10 {
+            let tol = if k < 2 { half_ulp_e3(real[k]) } else { 0.5e-6 };
+            let err = (sky.args[k] - real[k]).abs();
+            // One unit in the last printed place for rounding ties of float-rounded values.
+            assert!(err <= 2.0 * tol + 1e-12, "A{}: {msg}", k + 1);
+            total_fields += 1;
+            if err <= tol * 1.0000001 {
+                exact_fields += 1;
+            }
+        }
+        if real[0] > 0.0 {
+            rel_a1.push((sky.args[0] - real[0]).abs() / real[0]);
+        }
+        assert_eq!(sky.error, real[0] == 0.0 && real[2] == 0.0, "{msg}");
+        // Sun source.
+        let lines: Vec<&str> = text.lines().collect();
+        let real_sun = lines
+            .iter()
+            .position(|l| *l == "void light solar")
+            .map(|k| numbers_loose(lines[k + 3])[1]);
+        match (real_sun, sky.solar) {
+            (None, None) => {}
+            (Some(r), Some(s)) => assert!((r - s).abs() <= 2.0 * half_ulp_e3(r), "sun: {msg}"),
+            _ => panic!("sun presence differs: {msg}"),
+        }
+        // The comment's epsilon, delta and precipitable water (%.4f).
+        if let Some(c) = text.lines().find_map(|l| {
+            l.strip_prefix("# epsilon, delta, atmospheric precipitable water content : ")
+        }) {
+            let v = numbers_loose(c);
+            assert!((v[0] - sky.epsilon).abs() <= 1e-4, "epsilon: {msg}");
+            assert!((v[1] - sky.delta).abs() <= 1e-4, "delta: {msg}");
+            assert!((v[2] - sky.precip_water).abs() <= 1e-4, "W: {msg}");
+        }
+    }
+    let (med, max) = stats(rel_a1);
+    eprintln!(
+        "gendaylit: {} cases, {exact_fields}/{total_fields} arguments within half a printed \
+         unit; A1 rel diff median {med:.2e}, max {max:.2e}",
+        cases.len()
+    );
+    assert!(exact_fields * 100 >= total_fields * 97);
+}

@@ -125,7 +125,8 @@ pub struct CieSkyDescription {
     pub capped: bool,
 }
 
-fn normsc(sky: CieSky, alt: f64) -> f64 {
+/// gensky's polynomial normalisation `P(x)` (`normsc`), shared with gendaylit.
+pub(crate) fn normsc(sky: CieSky, alt: f64) -> f64 {
     const CLEAR: [f64; 5] = [2.766521, 0.547665, -0.369832, 0.009237, 0.059229];
     const INTER: [f64; 5] = [3.5556, -2.7152, -1.3081, 1.0660, 0.60227];
     let nf = if sky == CieSky::Intermediate {

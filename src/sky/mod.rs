@@ -13,11 +13,15 @@
 //! - [`perez`]: the Perez all-weather model as `gendaymtx` uses it (one sky vector per time
 //!   step) and the `perezlum.cal` radiance function of `gendaylit` skies.
 //!
+//! - [`gendaylit`]: gendaylit's own Perez implementation (its `perezlum.cal` arguments),
+//!   so gendaylit skies can be evaluated natively.
+//!
 //! Coordinates everywhere: +X east, +Y north, +Z zenith; radiance in W sr^-1 m^-2 of
 //! Radiance's visible "white" (luminance / 179).
 
 pub mod cie;
 pub mod efficacy;
+pub mod gendaylit;
 pub mod patches;
 pub mod perez;
 pub mod solar;
