@@ -1334,9 +1334,9 @@ fn live_gendaylit_arguments_match_gendaylit() {
         let real: Vec<f64> = numbers_loose(line)[1..].to_vec();
         let msg = format!("gendaylit {cmd}\n{text}\nours: {sky:?}");
         assert_eq!(real.len(), 10, "{msg}");
-        for k in 0..10 {
-            let tol = if k < 2 { half_ulp_e3(real[k]) } else { 0.5e-6 };
-            let err = (sky.args[k] - real[k]).abs();
+        for (k, (&ours, &r)) in sky.args.iter().zip(&real).enumerate() {
+            let tol = if k < 2 { half_ulp_e3(r) } else { 0.5e-6 };
+            let err = (ours - r).abs();
             // One unit in the last printed place for rounding ties of float-rounded values.
             assert!(err <= 2.0 * tol + 1e-12, "A{}: {msg}", k + 1);
             total_fields += 1;

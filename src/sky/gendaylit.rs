@@ -322,7 +322,7 @@ impl State {
         Some(())
     }
 
-    fn from_irradiance(&mut self, output: GendaylitOutput) -> Option<()> {
+    fn irradiance_input(&mut self, output: GendaylitOutput) -> Option<()> {
         self.check_irradiances()?;
         self.delta = self.brightness();
         self.eps = self.clearness();
@@ -366,7 +366,7 @@ impl State {
             GendaylitInput::DirectNormalIrradiance { direct, diffuse } => {
                 self.dir_irr = direct;
                 self.dif_irr = diffuse;
-                self.from_irradiance(o.output)?;
+                self.irradiance_input(o.output)?;
             }
             GendaylitInput::DirectHorizontalIrradiance { direct, diffuse } => {
                 if self.altitude <= 0.0 {
@@ -376,7 +376,7 @@ impl State {
                     self.dir_irr = direct / self.altitude.sin();
                     self.dif_irr = diffuse;
                 }
-                self.from_irradiance(o.output)?;
+                self.irradiance_input(o.output)?;
             }
             GendaylitInput::GlobalHorizontalIrradiance(glob) => {
                 if self.altitude <= 0.0 {
@@ -398,7 +398,7 @@ impl State {
                     };
                     self.dir_irr = (glob - self.dif_irr) / self.altitude.sin();
                 }
-                self.from_irradiance(o.output)?;
+                self.irradiance_input(o.output)?;
             }
             GendaylitInput::DirectNormalIlluminance { direct, diffuse } => {
                 self.dir_ill = direct;
