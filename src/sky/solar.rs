@@ -23,8 +23,8 @@
 //! gendaymtx converts it to east of north by adding pi (and subtracting its `-r` rotation).
 //!
 //! Leap days (gendaymtx `main`): a Feb 29 record gets `jd = 60` and every later record of
-//! that run is shifted by +1 day ([`LeapDayTracker`]); gensky and gendaylit have no leap
-//! years at all.
+//! that run is shifted by +1 day ([`LeapDayTracker`]); gensky and gendaylit ignore leap
+//! years except with `-y year` (Michalsky), where the year decides.
 
 use std::f64::consts::PI;
 

@@ -24,7 +24,10 @@ pub fn radiance_dirs() -> Option<(PathBuf, PathBuf)> {
             return Some((bin, lib));
         }
         let out = Command::new("python3")
-            .args(["-c", "import pyradiance, os; print(os.path.dirname(pyradiance.__file__))"])
+            .args([
+                "-c",
+                "import pyradiance, os; print(os.path.dirname(pyradiance.__file__))",
+            ])
             .output()
             .ok()?;
         if !out.status.success() {
