@@ -24,10 +24,7 @@ pub fn radiance_dirs() -> Option<(PathBuf, PathBuf)> {
             return Some((bin, lib));
         }
         let out = Command::new("python3")
-            .args([
-                "-c",
-                "import pyradiance, os; print(os.path.dirname(pyradiance.__file__))",
-            ])
+            .args(["-c", "import pyradiance, os; print(os.path.dirname(pyradiance.__file__))"])
             .output()
             .ok()?;
         if !out.status.success() {
