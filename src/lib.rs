@@ -7,6 +7,7 @@
 //!   sensor rays, weather), each parsed with `nom`, streaming where files get large, with
 //!   errors that name file, line and what was expected.
 //! - [`scene`]: the `.rad` scene description: grammar, inline `!commands`, typed primitives.
+//! - [`sky`]: sky patch layouts, solar position, CIE (gensky) and Perez (gendaymtx) skies.
 //! - [`radiometry`]: channel layouts (RGB or N spectral bands) shared by every buffer.
 //! - [`info`]: summaries of any file (what `rinfo` prints).
 //! - [`cli`]: what the thin binaries in `bin/` share (exit codes, progress, atomic output).
@@ -17,5 +18,6 @@ pub mod formats;
 pub mod info;
 pub mod radiometry;
 pub mod scene;
+pub mod sky;
 
 pub use error::{Error, Location, Result};

@@ -1,0 +1,32 @@
+//! # Skies: patch layouts, solar position, CIE and Perez sky models
+//!
+//! Groundwork shared by the daylight-coefficient tracer (`rdc`, which needs the patch layout,
+//! patch sampling and native evaluation of `gensky`/`gendaylit` skies) and the sky-matrix
+//! generator (`rspecsky`, the `gendaymtx` counterpart).
+//!
+//! - [`patches`]: Tregenza/Reinhart subdivision, index order exactly as `gendaymtx` and
+//!   `reinhart.cal` (`bin_of`, `centre`, `solid_angle`, `sample`).
+//! - [`solar`]: solar position as Radiance's `sun.c` (gensky/gendaymtx conventions).
+//! - [`efficacy`]: Perez 1990 clearness, brightness and luminous efficacy (irradiance to
+//!   illuminance), gendaymtx's handling of radiometric and photometric input.
+//! - [`cie`]: gensky's CIE skies and the `skybright.cal` radiance function.
+//! - [`perez`]: the Perez all-weather model as `gendaymtx` uses it (one sky vector per time
+//!   step) and the `perezlum.cal` radiance function of `gendaylit` skies.
+//!
+//! - [`gendaylit`]: gendaylit's own Perez implementation (its `perezlum.cal` arguments),
+//!   so gendaylit skies can be evaluated natively.
+//!
+//! Coordinates everywhere: +X east, +Y north, +Z zenith; radiance in W sr^-1 m^-2 of
+//! Radiance's visible "white" (luminance / 179).
+
+pub mod cie;
+pub mod efficacy;
+pub mod gendaylit;
+pub mod patches;
+pub mod perez;
+pub mod solar;
+
+pub use cie::{CieSky, CieSkyDescription, GenskyOptions};
+pub use patches::SkyPatches;
+pub use perez::{PerezOptions, SkyVector, TimeStep, perez_sky_vector};
+pub use solar::{Site, SunPosition};
