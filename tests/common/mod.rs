@@ -110,6 +110,9 @@ pub fn ours(bin: &str) -> Command {
     let path = match bin {
         "rinfo" => env!("CARGO_BIN_EXE_rinfo"),
         "rmtx" => env!("CARGO_BIN_EXE_rmtx"),
+        "rdc" => env!("CARGO_BIN_EXE_rdc"),
+        "rspecsky" => env!("CARGO_BIN_EXE_rspecsky"),
+        "rmetrics" => env!("CARGO_BIN_EXE_rmetrics"),
         other => panic!("unknown binary {other}"),
     };
     Command::new(path)

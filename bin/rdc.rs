@@ -1,0 +1,4 @@
+//! (being written)
+fn main() {
+    rdaylight::cli::run("rdc", || Err(rdaylight::Error::Usage("not implemented yet".into())))
+}
