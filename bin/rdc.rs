@@ -1,4 +1,6 @@
 //! (being written)
 fn main() {
-    rdaylight::cli::run("rdc", || Err(rdaylight::Error::Usage("not implemented yet".into())))
+    rdaylight::cli::run("rdc", || {
+        Err(rdaylight::Error::Usage("not implemented yet".into()))
+    })
 }

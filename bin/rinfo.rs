@@ -14,7 +14,7 @@ const EXAMPLES: &str = "\
 Examples:
     rinfo view.hdr dc.mtx               headers, as getinfo prints them
     rinfo -d view.hdr sky.mtx           dimensions (getinfo -d)
-    rinfo --stats ill.mtx               min/mean/max per component of a matrix, streamed
+    rinfo --stats ill.mtx view.hdr      min/mean/max per component / luminance, streamed
     rinfo room.rad grid.pts site.epw    scene, sensor and weather summaries
     rinfo --no-exec untrusted.rad       parse a scene without running its !commands";
 
@@ -28,7 +28,8 @@ struct Cli {
     #[arg(short = 'd')]
     dimensions: bool,
 
-    /// Per-component minimum, mean and maximum of a matrix (streamed).
+    /// Per-component minimum, mean and maximum of a matrix, or luminance statistics of a
+    /// picture (streamed; decodes every row, so it also checks the data).
     #[arg(long)]
     stats: bool,
 
@@ -56,7 +57,7 @@ fn describe(path: &str, cli: &Cli, out: &mut dyn Write) -> Result<(), Error> {
     let kind = info::detect(r.fill_buf().at_path(path)?);
     let text = match kind {
         Kind::Radiance if cli.dimensions => format!("{path}: {}\n", info::dimensions(r, path)?),
-        Kind::Radiance if cli.stats => info::matrix_stats(r, path)?,
+        Kind::Radiance if cli.stats => info::stats(r, path)?,
         Kind::Radiance => {
             let h = Header::read(&mut r, path)?;
             let mut s = format!(

@@ -1,4 +1,6 @@
 //! (being written)
 fn main() {
-    rdaylight::cli::run("rmetrics", || Err(rdaylight::Error::Usage("not implemented yet".into())))
+    rdaylight::cli::run("rmetrics", || {
+        Err(rdaylight::Error::Usage("not implemented yet".into()))
+    })
 }

@@ -1,4 +1,6 @@
 //! (being written)
 fn main() {
-    rdaylight::cli::run("rspecsky", || Err(rdaylight::Error::Usage("not implemented yet".into())))
+    rdaylight::cli::run("rspecsky", || {
+        Err(rdaylight::Error::Usage("not implemented yet".into()))
+    })
 }

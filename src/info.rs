@@ -8,9 +8,11 @@
 use crate::error::{Error, Location, Result};
 use crate::formats::header::Header;
 use crate::formats::matrix::reader::{MatrixReader, ReadOptions};
+use crate::formats::picture::PictureReader;
 use crate::formats::picture::resolution::Resolution;
 use crate::formats::sensors::{RayFormat, RayReader};
 use crate::formats::weather::{WeaUnits, Weather};
+use crate::radiometry::{RGB_PHOTOPIC, WHITE_EFFICACY};
 use crate::scene::Scene;
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
@@ -113,6 +115,59 @@ pub fn dimensions<R: BufRead>(r: R, name: &str) -> Result<String> {
         info.ncols,
         info.channels.ncomp,
         info.format.name()
+    ))
+}
+
+/// Statistics of a matrix (per component) or a picture (luminance), streamed.
+pub fn stats<R: BufRead>(mut r: R, name: &str) -> Result<String> {
+    // Peek at the header to decide, then hand the whole stream to the right reader.
+    let head = r.fill_buf().map_err(|e| Error::io(name, e))?;
+    let text = String::from_utf8_lossy(&head[..head.len().min(8192)]);
+    let header_end = text.find("\n\n").map(|i| &text[..i]).unwrap_or(&text);
+    let is_matrix = header_end
+        .lines()
+        .any(|l| l.starts_with("NCOLS=") || l.starts_with("NROWS="))
+        || header_end.lines().any(|l| {
+            l.starts_with("FORMAT=") && matches!(l[7..].trim(), "ascii" | "float" | "double")
+        });
+    if is_matrix {
+        matrix_stats(r, name)
+    } else {
+        picture_stats(r, name)
+    }
+}
+
+/// Luminance statistics of a picture (cd/m2 for radiance pictures, after EXPOSURE), read
+/// scanline by scanline; decoding errors (corrupt RLE, early end) surface here.
+pub fn picture_stats<R: BufRead>(r: R, name: &str) -> Result<String> {
+    let mut p = PictureReader::new(r, name)?;
+    let nc = p.ncomp();
+    let (w, h) = (p.resolution.scan_len(), p.resolution.num_scans());
+    let mut line = vec![0f32; w * nc];
+    let exposure = p.header.exposure();
+    let mut st = Stats::new(1);
+    let splits = p.channels.splits;
+    while p.read_scanline(&mut line)? {
+        for px in line.chunks_exact(nc) {
+            let rgb = if nc == 3 {
+                [px[0], px[1], px[2]]
+            } else {
+                crate::formats::picture::spectral::to_rgb(px, splits)
+            };
+            let lum = match p.format {
+                // XYZE: Y is already luminance (179 applied), notes §3.1.
+                crate::formats::picture::PixelFormat::Xyze => rgb[1] as f64,
+                _ => WHITE_EFFICACY * (0..3).map(|k| RGB_PHOTOPIC[k] * rgb[k] as f64).sum::<f64>(),
+            };
+            st.add(&[lum / exposure]);
+        }
+    }
+    Ok(format!(
+        "{name}: {w} x {h} pixels, {nc} components ({}); luminance min {:.6e}  mean {:.6e}  max {:.6e} cd/m2\n",
+        p.format.name(),
+        st.min[0],
+        st.mean()[0],
+        st.max[0]
     ))
 }
 
