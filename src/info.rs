@@ -188,12 +188,8 @@ pub fn matrix_stats<R: BufRead>(r: R, name: &str) -> Result<String> {
         m.info().format.name()
     );
     let mean = stats.mean();
-    for k in 0..nc {
-        let _ = writeln!(
-            s,
-            "  component {k}: min {:.6e}  mean {:.6e}  max {:.6e}",
-            stats.min[k], mean[k], stats.max[k]
-        );
+    for (k, ((lo, hi), avg)) in stats.min.iter().zip(&stats.max).zip(&mean).enumerate() {
+        let _ = writeln!(s, "  component {k}: min {lo:.6e}  mean {avg:.6e}  max {hi:.6e}");
     }
     Ok(s)
 }
