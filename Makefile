@@ -38,7 +38,7 @@ example: build
 # Installs real Radiance (pyradiance) when missing, then runs every test: unit, format
 # round trips, malformed input, and live interop with the real Radiance binaries.
 test: radiance
-	$(CARGO) test --all-targets
+	$(CARGO) test
 
 radiance:
 	@$(PYTHON) -c "import pyradiance" 2>/dev/null || $(PYTHON) -m pip install --quiet "$(PYRADIANCE)"
