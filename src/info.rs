@@ -189,7 +189,10 @@ pub fn matrix_stats<R: BufRead>(r: R, name: &str) -> Result<String> {
     );
     let mean = stats.mean();
     for (k, ((lo, hi), avg)) in stats.min.iter().zip(&stats.max).zip(&mean).enumerate() {
-        let _ = writeln!(s, "  component {k}: min {lo:.6e}  mean {avg:.6e}  max {hi:.6e}");
+        let _ = writeln!(
+            s,
+            "  component {k}: min {lo:.6e}  mean {avg:.6e}  max {hi:.6e}"
+        );
     }
     Ok(s)
 }

@@ -632,7 +632,10 @@ use rdaylight::sky::perez::{
     perez_sky_vector, perezlum,
 };
 
-const EPW: &str = "/work/shared/data/weather/GBR_London.Gatwick.037760_IWEC.epw";
+/// The bundled real weather file (London Gatwick IWEC), relative to the repository.
+fn epw_path() -> std::path::PathBuf {
+    common::repo().join("examples/weather/GBR_London.Gatwick.037760_IWEC.epw")
+}
 
 /// A WEA file made by real `epw2wea` from the London EPW, optionally cut to some days
 /// (month, day) and rewritten to other units. Returns (header lines, records).
@@ -640,8 +643,9 @@ const EPW: &str = "/work/shared/data/weather/GBR_London.Gatwick.037760_IWEC.epw"
 type WeaRecord = (u32, u32, f64, f64, f64);
 
 fn london_wea(dir: &std::path::Path, days: Option<&[(u32, u32)]>) -> (Vec<String>, Vec<WeaRecord>) {
-    let epw = std::path::Path::new(EPW);
-    assert!(epw.exists(), "weather file {EPW} missing");
+    let epw_buf = epw_path();
+    let epw = epw_buf.as_path();
+    assert!(epw.exists(), "weather file {} missing", epw.display());
     let full = dir.join("full.wea");
     common::run_ok(common::radiance("epw2wea").arg(epw).arg(&full), b"");
     let text = std::fs::read_to_string(&full).unwrap();
@@ -1019,7 +1023,7 @@ fn live_perez_matches_gendaymtx_reading_epw_with_dew_point() {
         return;
     }
     use rdaylight::sky::efficacy::DewPointMean;
-    let text = std::fs::read_to_string(EPW).unwrap();
+    let text = std::fs::read_to_string(epw_path()).unwrap();
     let lines: Vec<&str> = text.lines().collect();
     let loc: Vec<&str> = lines[0].split(',').collect();
     let site = Site {
@@ -1051,7 +1055,7 @@ fn live_perez_matches_gendaymtx_reading_epw_with_dew_point() {
         .iter()
         .fold((f64::MAX, f64::MIN), |a, &b| (a.0.min(b), a.1.max(b)));
     assert!(hi - lo > 10.0, "dew point varies over the year: {lo}..{hi}");
-    let real = real_gendaymtx(&["-m", "1"], std::path::Path::new(EPW));
+    let real = real_gendaymtx(&["-m", "1"], &epw_path());
     let (_, max, _) = compare_columns(&real, &ours, "gendaymtx -m 1 on the EPW", 1e-2);
     // gendaymtx keeps patch angles and results in C float (measured max 2.2e-6
     // relative); 1e-5 still catches any formula or coefficient slip (>= 1e-3).
