@@ -8,11 +8,13 @@
 //!   errors that name file, line and what was expected.
 //! - [`scene`]: the `.rad` scene description: grammar, inline `!commands`, typed primitives.
 //! - [`radiometry`]: channel layouts (RGB or N spectral bands) shared by every buffer.
+//! - [`geometry`]: shapes, rays, polygon triangulation and the scene BVH for the ray tracer.
 //! - [`cli`]: what the thin binaries in `bin/` share (exit codes, progress, atomic output).
 
 pub mod cli;
 pub mod error;
 pub mod formats;
+pub mod geometry;
 pub mod radiometry;
 pub mod scene;
 
