@@ -1079,3 +1079,116 @@ fn surfaces_closer_than_obvhs_epsilon_are_found() {
         }
     }
 }
+
+/// The scene as Radiance scene text: one `plastic` modifier, surfaces named `s<id>`.
+fn to_rad(objs: &[Object]) -> String {
+    use std::fmt::Write;
+    let mut s = String::from("void plastic m 0 0 5 .5 .5 .5 0 0\n");
+    let f = |a: &[f64]| {
+        a.iter()
+            .map(|x| format!("{x:e}"))
+            .collect::<Vec<_>>()
+            .join(" ")
+    };
+    for o in objs {
+        let (kind, args): (&str, Vec<f64>) = match &o.shape {
+            Shape::Polygon { vertices } => ("polygon", vertices.concat()),
+            Shape::Sphere {
+                centre,
+                radius,
+                inward,
+            } => (
+                if *inward { "bubble" } else { "sphere" },
+                [&centre[..], &[*radius]].concat(),
+            ),
+            Shape::Cone {
+                p0,
+                p1,
+                r0,
+                r1,
+                inward,
+            } => (
+                if *inward { "cup" } else { "cone" },
+                [&p0[..], &p1[..], &[*r0, *r1]].concat(),
+            ),
+            Shape::Cylinder { p0, p1, r, inward } => (
+                if *inward { "tube" } else { "cylinder" },
+                [&p0[..], &p1[..], &[*r]].concat(),
+            ),
+            Shape::Ring {
+                centre,
+                normal,
+                r_in,
+                r_out,
+            } => (
+                "ring",
+                [&centre[..], &normal[..], &[*r_in, *r_out]].concat(),
+            ),
+        };
+        writeln!(s, "m {kind} s{}\n0\n0\n{} {}", o.id, args.len(), f(&args)).unwrap();
+    }
+    s
+}
+
+#[test]
+fn agrees_with_rtrace_distance_normal_and_surface() {
+    if !common::have_radiance("agrees_with_rtrace_distance_normal_and_surface") {
+        return;
+    }
+    let mut r = rng(15);
+    let objs = random_scene(&mut r, Vec3::ZERO);
+    let bvh = Bvh::build(&objs).unwrap();
+    let dir = common::tmpdir();
+    let rad = dir.path().join("scene.rad");
+    std::fs::write(&rad, to_rad(&objs)).unwrap();
+    let oct = common::run_ok(common::radiance("oconv").arg(&rad), b"");
+    let octf = dir.path().join("scene.oct");
+    std::fs::write(&octf, oct).unwrap();
+    let rays: Vec<Ray> = (0..3000).map(|_| random_ray(&mut r, Vec3::ZERO)).collect();
+    let input: String = rays
+        .iter()
+        .map(|q| {
+            format!(
+                "{:e} {:e} {:e} {:e} {:e} {:e}\n",
+                q.org.x, q.org.y, q.org.z, q.dir.x, q.dir.y, q.dir.z
+            )
+        })
+        .collect();
+    let out = common::run_ok(
+        common::radiance("rtrace")
+            .args(["-h", "-ab", "0", "-oLNs"])
+            .arg(&octf),
+        input.as_bytes(),
+    );
+    let out = String::from_utf8(out).unwrap();
+    let lines: Vec<&str> = out.lines().collect();
+    assert_eq!(lines.len(), rays.len());
+    let (mut hits, mut worst_t, mut worst_n) = (0, 0.0f64, 0.0f64);
+    for (ray, line) in rays.iter().zip(&lines) {
+        let w: Vec<&str> = line.split('\t').filter(|s| !s.is_empty()).collect();
+        assert_eq!(w.len(), 5, "{line}");
+        let num = |i: usize| w[i].parse::<f64>().unwrap();
+        let ours = bvh.intersect(ray, 1e-6, f64::INFINITY); // Radiance ignores t <= FTINY
+        if w[4] == "*" {
+            assert!(ours.is_none(), "rtrace missed, we hit {ours:?} for {ray:?}");
+            continue;
+        }
+        let h =
+            ours.unwrap_or_else(|| panic!("rtrace hit {} at {}, we missed {ray:?}", w[4], w[0]));
+        hits += 1;
+        assert_eq!(format!("s{}", h.object), w[4], "{ray:?}");
+        // rtrace prints 7 significant digits (%e).
+        let t = num(0);
+        worst_t = worst_t.max((h.t - t).abs() / t.max(1.0));
+        assert!((h.t - t).abs() <= 2e-6 * t.max(1.0), "t {} vs {t}", h.t);
+        let n = v(num(1), num(2), num(3));
+        worst_n = worst_n.max((h.normal - n).length());
+        assert!(
+            (h.normal - n).length() < 1e-5,
+            "normal {:?} vs {n:?}",
+            h.normal
+        );
+    }
+    assert!(hits > 1500, "{hits}");
+    eprintln!("rtrace: {hits} hits agree; worst relative t {worst_t:e}, normal {worst_n:e}");
+}
