@@ -917,6 +917,24 @@ fn empty_scene() {
 }
 
 #[test]
+fn zero_or_nan_direction_hits_nothing() {
+    let bvh = Bvh::build(&[Object {
+        shape: Shape::Sphere {
+            centre: [0.; 3],
+            radius: 1.0,
+            inward: false,
+        },
+        id: 1,
+    }])
+    .unwrap();
+    for dir in [Vec3::ZERO, v(f64::NAN, 0., 1.)] {
+        let ray = Ray::new(v(0., 0., 0.), dir);
+        assert_eq!(bvh.intersect(&ray, 0.0, f64::INFINITY), None);
+        assert!(!bvh.occluded(&ray, f64::INFINITY));
+    }
+}
+
+#[test]
 fn secondary_rays_do_not_hit_their_own_surface() {
     for offset in [Vec3::ZERO, v(1e5, 1e5, -1e5)] {
         let mut r = rng(11);

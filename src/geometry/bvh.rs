@@ -66,6 +66,13 @@ impl std::fmt::Display for BuildError {
 
 impl std::error::Error for BuildError {}
 
+/// A direction the intersection routines can use: finite and not zero (a zero direction,
+/// e.g. from normalising a zero vector, would make a sphere report the origin as a hit).
+#[inline(always)]
+fn usable(dir: Vec3) -> bool {
+    dir.is_finite() && dir.length_squared() > 0.0
+}
+
 #[derive(Debug, Clone, Copy)]
 enum PrimGeom {
     Tri(TriGeom),
@@ -266,6 +273,9 @@ impl Bvh {
         let cw = self.cwbvh.as_ref()?;
         let org = ray.org - self.centre;
         let dir = ray.dir;
+        if !usable(dir) {
+            return None;
+        }
         let (enter, exit) = self.clip(org, dir, tmin, tmax)?;
         let s = enter.max(tmin) - BACKOFF;
         let bray = self.bvh_ray(org, dir, s, exit);
@@ -314,6 +324,9 @@ impl Bvh {
         };
         let org = ray.org - self.centre;
         let dir = ray.dir;
+        if !usable(dir) {
+            return false;
+        }
         let Some((enter, exit)) = self.clip(org, dir, 0.0, tmax) else {
             return false;
         };
