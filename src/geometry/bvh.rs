@@ -66,6 +66,13 @@ impl std::fmt::Display for BuildError {
 
 impl std::error::Error for BuildError {}
 
+impl BuildError {
+    /// The library error at `loc`, the `file:line` the caller knows for object `index`.
+    pub fn at(&self, loc: crate::Location) -> crate::Error {
+        self.error.at(loc)
+    }
+}
+
 /// A direction the intersection routines can use: finite and not zero (a zero direction,
 /// e.g. from normalising a zero vector, would make a sphere report the origin as a hit).
 #[inline(always)]
