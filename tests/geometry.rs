@@ -362,7 +362,10 @@ fn degenerate_polygons_are_errors_with_location() {
     let e = Bvh::build(&objs).err().unwrap();
     assert_eq!((e.index, e.id), (1, 11));
     let msg = e.at(rdaylight::Location::line("walls.rad", 9)).to_string();
-    assert!(msg.starts_with("walls.rad:9: polygon has zero area"), "{msg}");
+    assert!(
+        msg.starts_with("walls.rad:9: polygon has zero area"),
+        "{msg}"
+    );
     assert!(matches!(
         e.error,
         ShapeError::Polygon(PolygonError::ZeroArea { .. })
