@@ -10,12 +10,14 @@
 //! - [`sky`]: sky patch layouts, solar position, CIE (gensky) and Perez (gendaymtx) skies.
 //! - [`radiometry`]: channel layouts (RGB or N spectral bands) shared by every buffer.
 //! - [`info`]: summaries of any file (what `rinfo` prints).
+//! - [`geometry`]: shapes, rays, polygon triangulation and the scene BVH for the ray tracer.
 //! - [`cli`]: what the thin binaries in `bin/` share (exit codes, progress, atomic output).
 
 pub mod cli;
 pub mod error;
 pub mod formats;
 pub mod info;
+pub mod geometry;
 pub mod radiometry;
 pub mod scene;
 pub mod sky;

@@ -1,0 +1,187 @@
+//! A small `f64` 3-vector for the ray-tracing hot path.
+//!
+//! Why not `nalgebra::Vector3<f64>`: nalgebra's generic storage compiles to the same code in
+//! release builds, but its debug builds (which the test profile uses for this crate) are many
+//! times slower, its operator impls go through several layers of traits, and the intersection
+//! routines read better with plain `x, y, z` fields. `Vec3` is `Copy`, `#[repr(C)]` (24 bytes,
+//! no padding), and converts to and from `nalgebra::Vector3<f64>` and `[f64; 3]` for callers
+//! that use those.
+
+use std::ops::{Add, AddAssign, Div, Index, Mul, Neg, Sub, SubAssign};
+
+/// A 3-vector (point, direction or normal) in double precision.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[repr(C)]
+pub struct Vec3 {
+    pub x: f64,
+    pub y: f64,
+    pub z: f64,
+}
+
+impl Vec3 {
+    pub const ZERO: Vec3 = Vec3::new(0.0, 0.0, 0.0);
+
+    #[inline(always)]
+    pub const fn new(x: f64, y: f64, z: f64) -> Self {
+        Vec3 { x, y, z }
+    }
+    #[inline(always)]
+    pub const fn splat(v: f64) -> Self {
+        Vec3 { x: v, y: v, z: v }
+    }
+    #[inline(always)]
+    pub fn dot(self, o: Vec3) -> f64 {
+        self.x * o.x + self.y * o.y + self.z * o.z
+    }
+    #[inline(always)]
+    pub fn cross(self, o: Vec3) -> Vec3 {
+        Vec3::new(
+            self.y * o.z - self.z * o.y,
+            self.z * o.x - self.x * o.z,
+            self.x * o.y - self.y * o.x,
+        )
+    }
+    #[inline(always)]
+    pub fn length_squared(self) -> f64 {
+        self.dot(self)
+    }
+    #[inline(always)]
+    pub fn length(self) -> f64 {
+        self.dot(self).sqrt()
+    }
+    /// Unit vector in the same direction; the zero vector stays zero (callers check lengths
+    /// where it matters).
+    #[inline(always)]
+    pub fn normalize(self) -> Vec3 {
+        let l = self.length();
+        if l > 0.0 { self / l } else { self }
+    }
+    #[inline(always)]
+    pub fn min(self, o: Vec3) -> Vec3 {
+        Vec3::new(self.x.min(o.x), self.y.min(o.y), self.z.min(o.z))
+    }
+    #[inline(always)]
+    pub fn max(self, o: Vec3) -> Vec3 {
+        Vec3::new(self.x.max(o.x), self.y.max(o.y), self.z.max(o.z))
+    }
+    #[inline(always)]
+    pub fn abs(self) -> Vec3 {
+        Vec3::new(self.x.abs(), self.y.abs(), self.z.abs())
+    }
+    /// Largest component.
+    #[inline(always)]
+    pub fn max_elem(self) -> f64 {
+        self.x.max(self.y).max(self.z)
+    }
+    /// Largest absolute component (the infinity norm).
+    #[inline(always)]
+    pub fn max_abs(self) -> f64 {
+        self.abs().max_elem()
+    }
+    #[inline(always)]
+    pub fn is_finite(self) -> bool {
+        self.x.is_finite() && self.y.is_finite() && self.z.is_finite()
+    }
+    #[inline(always)]
+    pub fn to_array(self) -> [f64; 3] {
+        [self.x, self.y, self.z]
+    }
+    #[inline(always)]
+    pub fn to_f32(self) -> [f32; 3] {
+        [self.x as f32, self.y as f32, self.z as f32]
+    }
+}
+
+impl From<[f64; 3]> for Vec3 {
+    #[inline(always)]
+    fn from(a: [f64; 3]) -> Self {
+        Vec3::new(a[0], a[1], a[2])
+    }
+}
+impl From<Vec3> for [f64; 3] {
+    #[inline(always)]
+    fn from(v: Vec3) -> Self {
+        v.to_array()
+    }
+}
+impl From<nalgebra::Vector3<f64>> for Vec3 {
+    #[inline(always)]
+    fn from(v: nalgebra::Vector3<f64>) -> Self {
+        Vec3::new(v.x, v.y, v.z)
+    }
+}
+impl From<Vec3> for nalgebra::Vector3<f64> {
+    #[inline(always)]
+    fn from(v: Vec3) -> Self {
+        nalgebra::Vector3::new(v.x, v.y, v.z)
+    }
+}
+
+impl Index<usize> for Vec3 {
+    type Output = f64;
+    /// Component by axis number 0, 1, 2 (panics on other values, like an array).
+    #[inline(always)]
+    fn index(&self, i: usize) -> &f64 {
+        match i {
+            0 => &self.x,
+            1 => &self.y,
+            2 => &self.z,
+            _ => panic!("Vec3 index {i} out of range 0..3"),
+        }
+    }
+}
+
+impl Add for Vec3 {
+    type Output = Vec3;
+    #[inline(always)]
+    fn add(self, o: Vec3) -> Vec3 {
+        Vec3::new(self.x + o.x, self.y + o.y, self.z + o.z)
+    }
+}
+impl AddAssign for Vec3 {
+    #[inline(always)]
+    fn add_assign(&mut self, o: Vec3) {
+        *self = *self + o;
+    }
+}
+impl Sub for Vec3 {
+    type Output = Vec3;
+    #[inline(always)]
+    fn sub(self, o: Vec3) -> Vec3 {
+        Vec3::new(self.x - o.x, self.y - o.y, self.z - o.z)
+    }
+}
+impl SubAssign for Vec3 {
+    #[inline(always)]
+    fn sub_assign(&mut self, o: Vec3) {
+        *self = *self - o;
+    }
+}
+impl Mul<f64> for Vec3 {
+    type Output = Vec3;
+    #[inline(always)]
+    fn mul(self, s: f64) -> Vec3 {
+        Vec3::new(self.x * s, self.y * s, self.z * s)
+    }
+}
+impl Mul<Vec3> for f64 {
+    type Output = Vec3;
+    #[inline(always)]
+    fn mul(self, v: Vec3) -> Vec3 {
+        v * self
+    }
+}
+impl Div<f64> for Vec3 {
+    type Output = Vec3;
+    #[inline(always)]
+    fn div(self, s: f64) -> Vec3 {
+        Vec3::new(self.x / s, self.y / s, self.z / s)
+    }
+}
+impl Neg for Vec3 {
+    type Output = Vec3;
+    #[inline(always)]
+    fn neg(self) -> Vec3 {
+        Vec3::new(-self.x, -self.y, -self.z)
+    }
+}
