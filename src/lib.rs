@@ -7,12 +7,14 @@
 //!   sensor rays, weather), each parsed with `nom`, streaming where files get large, with
 //!   errors that name file, line and what was expected.
 //! - [`scene`]: the `.rad` scene description: grammar, inline `!commands`, typed primitives.
+//! - [`material`]: Radiance's materials for the path tracer (Ward, glass, mirror, sources).
 //! - [`radiometry`]: channel layouts (RGB or N spectral bands) shared by every buffer.
 //! - [`cli`]: what the thin binaries in `bin/` share (exit codes, progress, atomic output).
 
 pub mod cli;
 pub mod error;
 pub mod formats;
+pub mod material;
 pub mod radiometry;
 pub mod scene;
 
