@@ -196,6 +196,11 @@ pub struct ShadingOptions {
     pub st: f64,
     /// How Gaussian specular samples are weighted, see [`SpecularWeight`].
     pub specular: SpecularWeight,
+    /// Offset in Radiance's Fresnel estimate for pure specular `plastic`/`metal`/`trans`.
+    /// Default: the Radiance 6.0 release value [`ward::FRESNEL_OFFSET_RELEASE`] that the
+    /// installed binaries use; master corrected it to [`ward::FRESNEL_OFFSET_MASTER`] (the
+    /// value radiance-notes.md 5.1 quotes). The two differ by under 0.2 %.
+    pub fresnel_offset: f64,
 }
 
 impl ShadingOptions {
@@ -205,6 +210,7 @@ impl ShadingOptions {
             dj: 0.9,
             st: 0.02,
             specular: SpecularWeight::Radiance,
+            fresnel_offset: ward::FRESNEL_OFFSET_RELEASE,
         }
     }
 
@@ -214,6 +220,7 @@ impl ShadingOptions {
             dj: 0.0,
             st: 0.15,
             specular: SpecularWeight::Radiance,
+            fresnel_offset: ward::FRESNEL_OFFSET_RELEASE,
         }
     }
 }

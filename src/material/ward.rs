@@ -7,7 +7,7 @@
 //! `pdot = max(n.wo, 0.001)`:
 //!
 //! - pure specular (`alpha^2 <= 1e-6`) and `s >= 0.017999`: Fresnel estimate
-//!   `F(c) = exp(-5.85 c) - 0.00287989916`, `rspec = s + F(pdot)(1 - s)`; else `rspec = s`.
+//!   `F(c) = exp(-5.85 c) - offset` (offset: [`FRESNEL_OFFSET_RELEASE`] or `_MASTER`), `rspec = s + F(pdot)(1 - s)`; else `rspec = s`.
 //! - `trans = A6 (1 - rspec)`, `tspec = trans A7`, `tdiff = trans - tspec` (zero unless
 //!   `trans`), `rdiff = 1 - trans - rspec`.
 //! - specular colour: white x `rspec` (plastic, trans); metal: `rho rspec`, or with the Fresnel
@@ -33,10 +33,19 @@ use super::sampling::{
 use super::{Color, Sample, SampleKind, ShadingOptions, SpecularWeight, Surface};
 use std::f64::consts::PI;
 
-/// Radiance's Fresnel estimate (`normal.c: FRESNE`).
-pub fn fresnel_estimate(ci: f64) -> f64 {
-    (-5.85 * ci).exp() - 0.00287989916
+/// Radiance's Fresnel estimate (`normal.c: FRESNE`): `exp(-5.85 ci) - offset`, see
+/// [`ShadingOptions::fresnel_offset`] for the two published offsets.
+pub fn fresnel_estimate(ci: f64, offset: f64) -> f64 {
+    (-5.85 * ci).exp() - offset
 }
+
+/// `FRESNE`'s offset in Radiance 6.0 releases (2023 to mid 2026), which the installed
+/// `rtrace` uses (measured: pure-specular plastic differs by 0.17 % with the other value).
+pub const FRESNEL_OFFSET_RELEASE: f64 = 0.00202943064;
+
+/// `FRESNE`'s offset in Radiance master since commit 637ca291 (June 2026, "Correcting old
+/// error from 2023 that introduced incorrect constant"): `exp(-5.85)`, so `F(1) = 0`.
+pub const FRESNEL_OFFSET_MASTER: f64 = 0.00287989916;
 
 /// Minimum specularity for the Fresnel estimate (`normal.c: FRESTHRESH`).
 pub const FRESNEL_THRESHOLD: f64 = 0.017999;
@@ -128,7 +137,7 @@ impl Ward {
         let mut rspec = self.spec;
         let mut fest = 0.0;
         if pure && rspec >= FRESNEL_THRESHOLD {
-            fest = fresnel_estimate(pdot);
+            fest = fresnel_estimate(pdot, self.opts.fresnel_offset);
             rspec += fest * (1.0 - rspec);
         }
         let thresholds = self.opts.specular == SpecularWeight::Radiance;
@@ -194,7 +203,7 @@ impl Ward {
         }
         let (mut lrdiff, mut ltdiff) = (l.rdiff, l.tdiff);
         if l.pure && l.rspec >= FRESNEL_THRESHOLD && (lrdiff > FTINY || ltdiff > FTINY) {
-            let f = 1.0 - fresnel_estimate(ldot.abs());
+            let f = 1.0 - fresnel_estimate(ldot.abs(), self.opts.fresnel_offset);
             lrdiff *= f;
             ltdiff *= f;
         }
@@ -283,7 +292,7 @@ impl Ward {
         let prob = coef.mean() / total;
         let fresnel_diffuse = |cos_i: f64| {
             if consistent && l.pure && l.rspec >= FRESNEL_THRESHOLD {
-                1.0 - fresnel_estimate(cos_i.abs())
+                1.0 - fresnel_estimate(cos_i.abs(), self.opts.fresnel_offset)
             } else {
                 1.0
             }
