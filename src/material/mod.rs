@@ -125,14 +125,6 @@ impl Color {
         self.map(|x| x * s)
     }
 
-    pub fn mul(self, o: Color) -> Color {
-        self.zip(o, |a, b| a * b)
-    }
-
-    pub fn add(self, o: Color) -> Color {
-        self.zip(o, |a, b| a + b)
-    }
-
     /// Channel mean (used to pick lobes; Radiance's `bright` would weight channels, but a
     /// selection probability only needs to be positive where the weight is).
     pub fn mean(&self) -> f64 {
@@ -148,6 +140,26 @@ impl Color {
 
     pub fn is_black(&self) -> bool {
         self.as_slice().iter().all(|&x| x == 0.0)
+    }
+}
+
+impl std::ops::Add for Color {
+    type Output = Color;
+    fn add(self, o: Color) -> Color {
+        self.zip(o, |a, b| a + b)
+    }
+}
+
+impl std::ops::AddAssign for Color {
+    fn add_assign(&mut self, o: Color) {
+        *self = *self + o;
+    }
+}
+
+impl std::ops::Mul for Color {
+    type Output = Color;
+    fn mul(self, o: Color) -> Color {
+        self.zip(o, |a, b| a * b)
     }
 }
 

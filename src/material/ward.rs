@@ -208,10 +208,10 @@ impl Ward {
             ltdiff *= f;
         }
         if ldot > FTINY && lrdiff > FTINY {
-            out = out.add(l.mcolor.scale(ldot * omega * lrdiff / PI));
+            out += l.mcolor.scale(ldot * omega * lrdiff / PI);
         }
         if ldot < -FTINY && ltdiff > FTINY {
-            out = out.add(l.mcolor.scale(-ldot * omega * ltdiff / PI));
+            out += l.mcolor.scale(-ldot * omega * ltdiff / PI);
         }
         if ldot > FTINY && l.refl && !l.pure {
             let mut a2 = l.alpha2;
@@ -221,17 +221,16 @@ impl Ward {
             }
             let f = ward_reflection(l.n, wo, wi, a2);
             if f > FTINY {
-                out = out.add(l.scolor.scale(f * ldot * omega));
+                out += l.scolor.scale(f * ldot * omega);
             }
         }
         if ldot < -FTINY && l.tran && !l.pure {
             let a2 = l.alpha2 + omega / PI;
             let f = ((2.0 * dot(neg(wo), wi) - 2.0) / a2).exp() / (PI * a2);
             if f > FTINY {
-                out = out.add(
-                    l.mcolor
-                        .scale(f * l.tspec * omega * (-ldot / l.pdot).sqrt()),
-                );
+                out += l
+                    .mcolor
+                    .scale(f * l.tspec * omega * (-ldot / l.pdot).sqrt());
             }
         }
         out
@@ -267,7 +266,7 @@ impl Ward {
         if l.rdiff > FTINY {
             let mut c = l.mcolor.scale(l.rdiff);
             if l.rblt {
-                c = c.add(l.scolor);
+                c += l.scolor;
             }
             push(SampleKind::DiffuseReflect, c);
         }
