@@ -143,6 +143,17 @@ pub fn transmissivity_from_transmittance(tn_total: f64) -> f64 {
         / tn_total
 }
 
+/// Transmissivity of a pane with normal-incidence transmittance `tn_total` and any index:
+/// the same root as [`transmissivity_from_transmittance`] with the exact
+/// `r = ((n-1)/(n+1))^2`, written as `2 Tn / ((1-r)^2 + sqrt((1-r)^4 + 4 r^2 Tn^2))` so it
+/// does not cancel for small `Tn` (the published form loses ~3e-8/Tn to its rounded
+/// constants).
+pub fn transmissivity_for_index(tn_total: f64, index: f64) -> f64 {
+    let r = ((index - 1.0) / (index + 1.0)).powi(2);
+    let a = (1.0 - r).powi(2);
+    2.0 * tn_total / (a + (a * a + 4.0 * r * r * tn_total * tn_total).sqrt())
+}
+
 /// Normal-incidence transmittance of a pane of transmissivity `tn` and index `n` (the
 /// inverse of [`transmissivity_from_transmittance`] for n = 1.52):
 /// `(1-r)^2 tn / (1 - r^2 tn^2)`, `r = ((n-1)/(n+1))^2`.
