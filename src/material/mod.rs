@@ -541,3 +541,58 @@ impl Material {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn to_channels_rgb_mono_and_bands() {
+        assert_eq!(
+            to_channels([0.1, 0.2, 0.3], &Channels::rgb()).as_slice(),
+            &[0.1f32, 0.2, 0.3][..]
+        );
+        let y = to_channels([1.0, 1.0, 1.0], &Channels::mono());
+        assert_eq!(y.ncomp(), 1);
+        assert!((y.as_slice()[0] - 1.0).abs() < 1e-6);
+        // 4 bands of 100 nm: centres 730, 630, 530, 430 -> R R G B.
+        let c = to_channels(
+            [0.1, 0.2, 0.3],
+            &Channels::spectral(4, 380.0, 780.0).unwrap(),
+        );
+        assert_eq!(c.as_slice(), &[0.1f32, 0.1, 0.2, 0.3][..]);
+        // A range inside green: every band is G.
+        let c = to_channels(
+            [0.1, 0.2, 0.3],
+            &Channels::spectral(5, 500.0, 560.0).unwrap(),
+        );
+        assert!(c.as_slice().iter().all(|&x| x == 0.2));
+    }
+
+    #[test]
+    fn color_arithmetic_keeps_channels() {
+        let a = Color::from_slice(&[1.0, 2.0, 3.0, 4.0]);
+        let b = Color::splat(4, 0.5);
+        assert_eq!((a * b).as_slice(), &[0.5f32, 1.0, 1.5, 2.0][..]);
+        let mut c = a;
+        c += b;
+        assert_eq!(c.as_slice(), &[1.5f32, 2.5, 3.5, 4.5][..]);
+        assert_eq!(a.mean(), 2.5);
+        assert_eq!(a.max(), 4.0);
+        assert!(Color::black(24).is_black());
+        assert_eq!(Color::splat(99, 1.0).ncomp(), MAX_SAMPLES);
+    }
+
+    #[test]
+    fn void_passes_everything() {
+        let v = Material::Void { ncomp: 5 };
+        let s = Surface::flat([0.0, 0.0, 1.0]);
+        let smp = v.sample([0.0, 0.6, 0.8], &s, 0.1, 0.2, 0.3).unwrap();
+        assert_eq!(smp.wi, [0.0, -0.6, -0.8]);
+        assert_eq!(smp.kind, SampleKind::PureTransmit);
+        assert_eq!(
+            v.shadow_transmission([0.0, 0.0, 1.0], &s).unwrap().ncomp(),
+            5
+        );
+    }
+}

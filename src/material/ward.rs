@@ -399,3 +399,110 @@ pub fn ward_reflection(n: V3, wo: V3, wi: V3, a2: f64) -> f64 {
     let tan2 = (d3 - d2) / d2;
     (-tan2 / a2).exp() * d3 / (PI * d2 * d2 * a2)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::material::sampling::normalize;
+
+    fn mat(kind: WardKind, spec: f64, rough: f64, trans: f64, tspec: f64) -> Ward {
+        Ward::new(
+            kind,
+            Color::from_slice(&[0.8, 0.6, 0.3]),
+            spec,
+            rough,
+            trans,
+            tspec,
+            ShadingOptions::rtrace(),
+        )
+    }
+
+    #[test]
+    fn split_sums_to_one_and_flips_normal() {
+        let w = mat(WardKind::Trans, 0.05, 0.0, 0.6, 0.4);
+        let s = Surface::flat([0.0, 0.0, 1.0]);
+        let wo = normalize([0.3, 0.0, -1.0]);
+        let l = w.lobes(wo, &s);
+        assert_eq!(l.n, [0.0, 0.0, -1.0]);
+        assert!((l.rdiff + l.rspec + l.trans - 1.0).abs() < 1e-12);
+        assert!((l.tspec + l.tdiff - l.trans).abs() < 1e-12);
+        // Fresnel estimate raised rspec above spec for the pure surface.
+        assert!(l.rspec > 0.05);
+    }
+
+    #[test]
+    fn metal_specular_colour_with_fresnel() {
+        let w = mat(WardKind::Metal, 0.5, 0.0, 0.0, 0.0);
+        let wo = normalize([1.0, 0.0, 0.3]);
+        let l = w.lobes(wo, &Surface::flat([0.0, 0.0, 1.0]));
+        let f = fresnel_estimate(l.pdot, FRESNEL_OFFSET_RELEASE);
+        let expect = f + 0.8 * 0.5 * (1.0 - f);
+        assert!((l.scolor.as_slice()[0] as f64 - expect).abs() < 1e-6);
+    }
+
+    #[test]
+    fn specular_below_threshold_is_folded_into_diffuse() {
+        // spec .05 <= -st .15: Radiance never draws a Gaussian sample for it.
+        let w = mat(WardKind::Plastic, 0.05, 0.1, 0.0, 0.0);
+        let s = Surface::flat([0.0, 0.0, 1.0]);
+        let wo = normalize([0.2, 0.1, 1.0]);
+        let mut total = 0.0;
+        for i in 0..1000 {
+            let u = (i as f64 + 0.5) / 1000.0;
+            let smp = w.sample(wo, &s, u, u * 0.7 % 1.0, u * 0.3).unwrap();
+            assert_eq!(smp.kind, SampleKind::DiffuseReflect);
+            total += smp.weight.as_slice()[0] as f64;
+        }
+        // rho rdiff + rspec = .8 * .95 + .05
+        assert!((total / 1000.0 - 0.81).abs() < 1e-6);
+        // Above the threshold it is sampled.
+        let w = mat(WardKind::Plastic, 0.3, 0.1, 0.0, 0.0);
+        let kinds: Vec<_> = (0..100)
+            .filter_map(|i| w.sample(wo, &s, i as f64 / 100.0, 0.3, 0.6))
+            .map(|s| s.kind)
+            .collect();
+        assert!(kinds.contains(&SampleKind::SpecularReflect));
+    }
+
+    #[test]
+    fn shadow_rays_pass_only_pure_trans() {
+        let s = Surface::flat([0.0, 0.0, 1.0]);
+        let wo = [0.0, 0.0, -1.0];
+        assert!(
+            mat(WardKind::Plastic, 0.0, 0.0, 0.0, 0.0)
+                .shadow_transmission(wo, &s)
+                .is_none()
+        );
+        assert!(
+            mat(WardKind::Trans, 0.0, 0.1, 0.5, 1.0)
+                .shadow_transmission(wo, &s)
+                .is_none()
+        );
+        let t = mat(WardKind::Trans, 0.0, 0.0, 0.5, 1.0)
+            .shadow_transmission(wo, &s)
+            .unwrap();
+        assert!((t.as_slice()[0] as f64 - 0.8 * 0.5).abs() < 1e-6);
+    }
+
+    #[test]
+    fn degenerate_directions_never_give_nan() {
+        let s = Surface::flat([0.0, 0.0, 1.0]);
+        for w in [
+            mat(WardKind::Trans, 0.05, 0.1, 0.5, 0.5),
+            mat(WardKind::Metal, 0.9, 0.0, 0.0, 0.0),
+        ] {
+            for wo in [[1.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, 0.0, -1.0], [0.0; 3]] {
+                for wi in [[1.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, 0.0, -1.0], [0.0; 3]] {
+                    let c = w.eval_direct(wo, wi, &s, 1e-4);
+                    assert!(c.as_slice().iter().all(|x| x.is_finite()), "{wo:?} {wi:?}");
+                }
+                for u in [0.0, 0.5, 0.999_999] {
+                    if let Some(smp) = w.sample(wo, &s, u, u, u) {
+                        assert!(smp.weight.as_slice().iter().all(|x| x.is_finite()));
+                        assert!(smp.wi.iter().all(|x| x.is_finite()));
+                    }
+                }
+            }
+        }
+    }
+}
