@@ -972,3 +972,33 @@ fn indirect_sampling_agrees_with_rtrace_ab1() {
     }
     eprintln!("{}", report.join("\n"));
 }
+
+#[test]
+fn illum_is_transparent_to_view_rays_like_rtrace() {
+    if !common::have_radiance("illum_is_transparent_to_view_rays_like_rtrace") {
+        return;
+    }
+    // An illum window (void alternate) in front of a glow: view rays see the glow through it,
+    // not the illum's radiance; from the back likewise.
+    let ch = Channels::rgb();
+    let il = parse_material(
+        "void illum w 0 0 3 50 50 50",
+        &ShadingOptions::default(),
+        &ch,
+    );
+    let scene = "void glow gl 0 0 4 1 2 3 0\ngl source under 0 0 4 0 0 -1 180\n\
+                 void illum w 0 0 3 50 50 50\nw polygon q 0 0 12 -9 -9 0 9 -9 0 9 9 0 -9 9 0\n";
+    let v = tilted(30.0);
+    let got = rtrace(
+        scene,
+        &[([2.0 * v[0], 2.0 * v[1], 2.0 * v[2]], neg3(v))],
+        &[],
+    );
+    let s = Surface::flat([0.0, 0.0, 1.0]);
+    let seen = il.emission(v, &s).unwrap();
+    let through = il.sample(v, &s, 0.5, 0.5, 0.5).unwrap();
+    assert_eq!(through.kind, SampleKind::PureTransmit);
+    assert!(through.wi[2] < 0.0);
+    let ours = rgb(seen + through.weight.mul_rgb([1.0, 2.0, 3.0]));
+    assert_close("illum seen by a view ray", ours, got[0], 1e-5);
+}

@@ -7,13 +7,19 @@
 //! | material | direct source | indirect (ambient / Gaussian-specular) ray that hits it |
 //! |---|---|---|
 //! | `light` | yes, unless all channels <= 1e-6 | discarded (black): NEE counted it |
-//! | `illum` | yes (same rule) | passes to its alternate material, or transparent if `void` |
+//! | `illum` | yes (same rule) | discarded from the front; from the back it is its alternate |
 //! | `glow`, maxrad > 0, not on `source` | yes, for points within maxrad | seen beyond maxrad, discarded within |
 //! | `glow`, maxrad = 0 | never | seen (needs `-ab >= 1`) |
 //! | `glow`, maxrad < 0 | never | discarded: never illuminates |
 //! | `glow` on a `source` primitive | skipped (`SSKIP`) | seen (distance is infinite) |
 //!
-//! Primary and pure-specular rays always see the emitted radiance (`-dv+`).
+//! Primary and pure-specular rays always see the emitted radiance of `light` and `glow`
+//! (`-dv+`). An `illum` is only a source for shadow rays aimed at it; every other ray that
+//! reaches it (primary, pure specular, from the back, shadow rays aimed at a `light`) sees
+//! its alternate material, or passes straight through when that is `void` (`passillum`).
+//! A shadow ray aimed at a weak source (`glow`/`illum`) that hits an `illum`'s front is
+//! blocked (`illumblock`). [`Emitter::emission`] therefore returns black for `illum`;
+//! next-event estimation uses [`Emitter::source_radiance`].
 
 use super::sampling::{FTINY, V3, dot};
 use super::{Color, Surface};
@@ -33,8 +39,17 @@ pub struct Emitter {
 }
 
 impl Emitter {
-    /// Radiance toward `wo`: the colour from the front, black from the back.
+    /// Radiance a primary or pure-specular ray sees toward `wo`: the colour from the front,
+    /// black from the back, black for `illum` (see the module table).
     pub fn emission(&self, wo: V3, s: &Surface) -> Color {
+        if matches!(self.kind, EmitterKind::Illum { .. }) {
+            return Color::black(self.color.ncomp());
+        }
+        self.source_radiance(wo, s)
+    }
+
+    /// Radiance a shadow ray aimed at this source receives from it (front side only).
+    pub fn source_radiance(&self, wo: V3, s: &Surface) -> Color {
         if dot(wo, s.normal) > 0.0 {
             self.color
         } else {

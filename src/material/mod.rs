@@ -264,7 +264,9 @@ pub enum SpecularWeight {
 pub struct Surface {
     /// Unit geometric normal (either side).
     pub normal: V3,
-    /// Flat surface (polygon, ring): Radiance widens specular lobes of sources on these.
+    /// The shaded surface is flat (Radiance's `isflat`: polygon faces and rings, also inside
+    /// instances): `dirnorm` then widens the specular lobe by `(1-dj) omega/(4 pi)` for each
+    /// source, standing in for the source's extent.
     pub flat: bool,
 }
 
@@ -343,7 +345,8 @@ pub enum Material {
 
 impl Material {
     /// Build from a primitive with rcontrib's default [`ShadingOptions`]. `Ok(None)` for
-    /// things that are not materials (surfaces, patterns, ...).
+    /// things that are not materials (surfaces, patterns, ...). Surfaces whose modifier is
+    /// `void` get [`Material::Void`] from the caller (there is no primitive for it).
     pub fn from_primitive(p: &Primitive, ch: &Channels) -> Result<Option<Material>> {
         Self::build(
             p,
@@ -504,12 +507,22 @@ impl Material {
     }
 
     /// Sample a continuation from three uniforms in [0,1). `None`: the path ends here
-    /// (emitter, black material, rejected specular direction).
+    /// (emitter, black material, rejected specular direction; an `illum` or `mirror` with an
+    /// alternate material is the integrator's to resolve, see [`emitter`] and [`mirror`]).
     pub fn sample(&self, wo: V3, s: &Surface, u1: f64, u2: f64, u3: f64) -> Option<Sample> {
         match self {
             Material::Ward(w) => w.sample(wo, s, u1, u2, u3),
             Material::Glass(g) => g.sample(wo, s, u1),
             Material::Mirror(m) => m.sample(wo, s),
+            // An illum without alternate material is a void passage for non-source rays.
+            Material::Emitter(Emitter {
+                kind: EmitterKind::Illum { alternate: None },
+                color,
+            }) => Some(Sample {
+                wi: sampling::neg(wo),
+                weight: Color::splat(color.ncomp(), 1.0),
+                kind: SampleKind::PureTransmit,
+            }),
             Material::Emitter(_) => None,
             Material::Void { ncomp } => Some(Sample {
                 wi: sampling::neg(wo),
