@@ -8,6 +8,7 @@
 //!   errors that name file, line and what was expected.
 //! - [`scene`]: the `.rad` scene description: grammar, inline `!commands`, typed primitives.
 //! - [`sky`]: sky patch layouts, solar position, CIE (gensky) and Perez (gendaymtx) skies.
+//! - [`material`]: Radiance's materials for the path tracer (Ward, glass, mirror, sources).
 //! - [`radiometry`]: channel layouts (RGB or N spectral bands) shared by every buffer.
 //! - [`info`]: summaries of any file (what `rinfo` prints).
 //! - [`geometry`]: shapes, rays, polygon triangulation and the scene BVH for the ray tracer.
@@ -18,6 +19,7 @@ pub mod error;
 pub mod formats;
 pub mod info;
 pub mod geometry;
+pub mod material;
 pub mod radiometry;
 pub mod scene;
 pub mod sky;
