@@ -8,6 +8,7 @@
 //!   errors that name file, line and what was expected.
 //! - [`scene`]: the `.rad` scene description: grammar, inline `!commands`, typed primitives.
 //! - [`sky`]: sky patch layouts, solar position, CIE (gensky) and Perez (gendaymtx) skies.
+//! - [`metrics`]: annual daylight metrics (TAI, UDI, DA, sDA, ASE), Appendix-A errors, maps.
 //! - [`radiometry`]: channel layouts (RGB or N spectral bands) shared by every buffer.
 //! - [`info`]: summaries of any file (what `rinfo` prints).
 //! - [`cli`]: what the thin binaries in `bin/` share (exit codes, progress, atomic output).
@@ -16,6 +17,7 @@ pub mod cli;
 pub mod error;
 pub mod formats;
 pub mod info;
+pub mod metrics;
 pub mod radiometry;
 pub mod scene;
 pub mod sky;
