@@ -400,6 +400,10 @@ mod tests {
             parse_flags("1\n2\n", "f").unwrap_err().to_string(),
             "f:2: expected an occupancy flag 0 or 1, found '2'"
         );
+        let text = "1\n0\n1\n";
+        for n in 0..text.len() {
+            let _ = parse_flags(&text[..n], "f");
+        }
         assert_eq!(parse_range("8-18").unwrap(), (8.0, 18.0));
         assert_eq!(parse_range("8.5-17").unwrap(), (8.5, 17.0));
         assert!(parse_range("18-8").is_err());
