@@ -96,7 +96,8 @@ struct SchedArgs {
     /// Time stamps instead: one `month day hour` line per column (e.g. with gendaymtx -u).
     #[arg(long, value_name = "FILE", conflicts_with = "weather")]
     hours: Option<String>,
-    /// Occupied hours START-END in decimal local standard time: START <= hour < END.
+    /// Occupied hours START-END in decimal local standard time: START <= hour < END. LEED
+    /// and IES LM-83 use 8-18; the seed used 9-17 for TAI (ch. 2) and 8-17 for RMSE (App. A).
     #[arg(long, value_name = "START-END", default_value = "8-18")]
     occupied: String,
     /// Count Monday to Friday only (weekday from an EPW's DATA PERIODS, or --jan1).
@@ -176,14 +177,19 @@ fn write_out(
 }
 
 fn run_compare(bench: &str, variants: &[String], sched: &SchedArgs) -> Result<(), Error> {
+    use std::io::Read;
     let text = |p: &str| std::fs::read(p).map_err(|e| Error::io(p, e));
-    let first = text(bench)?;
-    let is_table = String::from_utf8_lossy(&first[..first.len().min(4096)])
+    // Only the start decides (a matrix is then streamed, never loaded whole).
+    let mut first = Vec::new();
+    std::fs::File::open(bench)
+        .and_then(|f| f.take(4096).read_to_end(&mut first))
+        .map_err(|e| Error::io(bench, e))?;
+    let is_table = String::from_utf8_lossy(&first)
         .lines()
         .find(|l| !l.starts_with('#') && !l.trim().is_empty())
         .is_some_and(|l| l.starts_with("sensor\t"));
     let rows = if is_table {
-        let b = report::read_tsv(&String::from_utf8_lossy(&first), bench)?;
+        let b = report::read_tsv(&String::from_utf8_lossy(&text(bench)?), bench)?;
         let mut vs = Vec::new();
         for v in variants {
             vs.push((

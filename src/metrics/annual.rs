@@ -14,7 +14,8 @@
 //!   UDI-n (fell short) `E < low`, UDI-s (supplementary) `low <= E < mid`, UDI-a
 //!   (autonomous) `mid <= E <= high`, UDI-e (exceeded) `E > high`; they sum to 100. The
 //!   seed's chapters 3-5 use three bins at 300 and 3000 lx ("insufficient" UDI_i, UDI_a,
-//!   UDI_e): its UDI_i is our UDI-n + UDI-s; with `low = mid` UDI-s is empty.
+//!   UDI_e; chapter 5 calls the first one UDI_n): that bin is our UDI-n + UDI-s, or set
+//!   `low = mid` (`--udi 300,300,3000`) and UDI-s stays empty.
 //! - **DA**, Daylight Autonomy: percent of occupied time with `E >= da` (300 lx).
 //! - **sDA**, spatial Daylight Autonomy (seed section 4.3.5, IES LM-83): percent of sensors
 //!   whose DA is at least `sda_fraction` (50 %), i.e. `DA >= 50` with both boundaries

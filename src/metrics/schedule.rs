@@ -19,6 +19,10 @@
 //! its DATA PERIODS record ([`Weekdays`]). Or a file gives one 0/1 flag per column
 //! ([`parse_flags`]).
 //!
+//! Sub-hourly EPW steps carry Radiance's stamp `h - 1 + minute/60`, the *end* of each
+//! interval (08:00 for 07:45-08:00), so with 15-minute data the half-open range counts the
+//! intervals ending at 8.00 ... 17.75; shift `--occupied` by one step if that matters.
+//!
 //! Step length: the smallest positive gap between consecutive stamps of one day, capped at
 //! one hour (hourly files: 1 h; 15-minute EPW: 0.25 h); a lone step per day counts 1 h.
 //! Sums over time (TAI) and hour counts (ASE) are weighted by it.
