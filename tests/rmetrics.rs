@@ -545,3 +545,53 @@ fn weekdays_come_from_the_epw_data_periods() {
     let b = run_with(&["--jan1", "Monday"]);
     assert!(b.contains("# occupied steps: 2610 (2610 h)"), "{b}");
 }
+
+#[test]
+fn bad_inputs_fail_cleanly() {
+    let d = tmpdir();
+    let h = write(d.path(), "h.txt", &hours_text());
+    let full = matrix(&hand_rows(), 1);
+    // Every truncated prefix of the matrix: exit 0 (a prefix that is still whole) or 1 with
+    // one `rmetrics:` line, never a panic (101).
+    for n in (0..full.len()).step_by(3) {
+        let m = write(d.path(), "t.mtx", &full[..n]);
+        let out = run(ours("rmetrics").args(["--hours", &h, &m]), b"");
+        let code = out.status.code();
+        assert!(code == Some(0) || code == Some(1), "prefix {n}: {code:?}");
+        if code == Some(1) {
+            let err = String::from_utf8_lossy(&out.stderr);
+            assert!(
+                err.starts_with("rmetrics: ") && err.lines().count() == 1,
+                "{err}"
+            );
+            assert!(out.stdout.is_empty(), "prefix {n}: partial output");
+        }
+    }
+    // A direct-sun matrix of another shape is refused before any output.
+    let m = write(d.path(), "e.mtx", &full);
+    let sun = write(d.path(), "sun.mtx", &matrix(&[vec![0.0; 10]], 1));
+    let out = run(
+        ours("rmetrics").args(["--hours", &h, "--direct-sun", &sun, &m]),
+        b"",
+    );
+    assert_eq!(out.status.code(), Some(1));
+    assert!(out.stdout.is_empty());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("both must come from the same sensors and sky steps"),
+        "{err}"
+    );
+    // A spectral matrix (NCOMP=4) is refused with the fix.
+    let spec = write(d.path(), "s.mtx", &matrix(&[vec![1.0; 40]], 4));
+    let out = run(ours("rmetrics").args(["--hours", &h, &spec]), b"");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("NCOMP=4; rmetrics reads illuminance"), "{err}");
+    // A bad --hours line names file and line.
+    let bad = write(d.path(), "bad.txt", "6 21 6.5\n6 21 x\n");
+    let out = run(ours("rmetrics").args(["--hours", &bad, &m]), b"");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.starts_with(&format!("rmetrics: {bad}:2: expected 'month day hour'")),
+        "{err}"
+    );
+}
