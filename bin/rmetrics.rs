@@ -1,6 +1,317 @@
+<<<<<<< HEAD
 //! (being written)
 fn main() {
     rdaylight::cli::run("rmetrics", || {
         Err(rdaylight::Error::Usage("not implemented yet".into()))
     })
+=======
+//! `rmetrics`: annual daylight metrics (TAI, UDI, DA, sDA, ASE) from an illuminance matrix,
+//! falsecolor maps, and Appendix-A errors between model variants. The physics lives in
+//! `rdaylight::metrics`; this file parses options and opens files.
+
+use clap::{Args, Parser, Subcommand};
+use rdaylight::Error;
+use rdaylight::formats::sensors::{RayFormat, read_rays};
+use rdaylight::metrics::{
+    self, LuxRows, Thresholds,
+    annual::column_names,
+    compare, map, report,
+    schedule::{ScheduleSpec, parse_range},
+};
+use std::io::Write;
+use std::path::Path;
+
+const EXAMPLE: &str = "\
+Example pipeline (two-phase, with Radiance or rdaylight tools):
+  gendaymtx -m 1 weather.wea > sky.smx             # one column per weather step (no -u)
+  dctimestep dc.mtx sky.smx | rmtxop -fa -c 47.4 119.9 11.6 - > illum.mtx
+  rmetrics -w weather.wea --pts sensors.pts --json metrics.json illum.mtx > metrics.tsv
+  rmetrics -w weather.wea --pts sensors.pts --map DA --png da.png illum.mtx > /dev/null
+  # ASE needs direct sun only: sun coefficients (-ab 0) times a sun-only sky (gendaymtx -d)
+  rmetrics -w weather.wea --direct-sun sun.mtx illum.mtx
+  rmetrics compare benchmark.tsv variant.tsv      # PE, MAPE, RMSE (seed Appendix A)
+
+Time steps: the matrix must have one column per step of the weather file (gendaymtx
+without -u); a step at decimal hour h is occupied when START <= h < END (8-18 counts the
+hourly stamps 8.5 ... 17.5). Per-sensor TAI is seed Eq. 4.1 in klx.h; the `room` row
+(mean of each column) is Eq. 2.2. UDI-n < 100 <= UDI-s < 300 <= UDI-a <= 3000 < UDI-e;
+DA counts E >= 300 lx; sDA: share of sensors with DA >= 50 %; ASE: share of sensors with
+direct sun > 1000 lx for > 250 h.";
+
+#[derive(Parser)]
+#[command(
+    name = "rmetrics",
+    version,
+    about = "Annual daylight metrics (TAI, UDI, DA, sDA, ASE) from an illuminance matrix \
+             (sensors x time steps), maps and model-variant errors",
+    after_help = EXAMPLE,
+    args_conflicts_with_subcommands = true,
+    subcommand_negates_reqs = true
+)]
+struct Cli {
+    #[command(subcommand)]
+    cmd: Option<Cmd>,
+    /// Illuminance matrix: rows = sensors, columns = time steps; NCOMP=1 lux (rmtxop -c
+    /// 47.4 119.9 11.6) or NCOMP=3 RGB irradiance (converted, noted in the output); `-` =
+    /// standard input.
+    #[arg(default_value = "-")]
+    illum: String,
+    #[command(flatten)]
+    sched: SchedArgs,
+    /// UDI thresholds LOW,MID,HIGH in lux (UDI-n < LOW <= UDI-s < MID <= UDI-a <= HIGH <
+    /// UDI-e). The seed's three-bin UDI (300/3000) is UDI-n + UDI-s, UDI-a, UDI-e.
+    #[arg(long, value_name = "LOW,MID,HIGH", default_value = "100,300,3000")]
+    udi: String,
+    /// Daylight Autonomy threshold in lux (E >= DA counts).
+    #[arg(long, value_name = "LUX", default_value_t = 300.0)]
+    da: f64,
+    /// sDA: a sensor passes when its DA is at least this percentage.
+    #[arg(long, value_name = "PERCENT", default_value_t = 50.0)]
+    sda: f64,
+    /// ASE thresholds LUX,HOURS: direct sun above LUX for more than HOURS occupied hours.
+    #[arg(long, value_name = "LUX,HOURS", default_value = "1000,250")]
+    ase: String,
+    /// Direct-sun-only illuminance matrix (same sensors and steps) for ASE. Without it ASE
+    /// is not computed (and asking for it is an error), never reported as zero.
+    #[arg(long, value_name = "FILE")]
+    direct_sun: Option<String>,
+    /// Sensor points (rtrace ascii `x y z dx dy dz`, one per matrix row): adds x y z
+    /// columns and is required by --map.
+    #[arg(long, value_name = "FILE")]
+    pts: Option<String>,
+    /// Write the TSV table here instead of standard output.
+    #[arg(short = 'o', long, value_name = "FILE")]
+    output: Option<String>,
+    /// Also write the results as JSON.
+    #[arg(long, value_name = "FILE")]
+    json: Option<String>,
+    /// Metric to map (a column name: TAI_klxh, UDI_n, UDI_s, UDI_a, UDI_e, DA, sDA, ASE_h,
+    /// ASE); needs --pts and --png.
+    #[arg(long, value_name = "METRIC", requires = "png")]
+    map: Option<String>,
+    /// PNG file for --map: one 16-px cell per sensor over the plan (x right, y up), blue =
+    /// minimum to red = maximum, legend bar with min/max labels.
+    #[arg(long, value_name = "FILE", requires = "map")]
+    png: Option<String>,
+}
+
+#[derive(Args, Clone)]
+struct SchedArgs {
+    /// Weather file (.wea or .epw) the sky matrix was made from: one column per step.
+    #[arg(short = 'w', long, value_name = "FILE")]
+    weather: Option<String>,
+    /// Time stamps instead: one `month day hour` line per column (e.g. with gendaymtx -u).
+    #[arg(long, value_name = "FILE", conflicts_with = "weather")]
+    hours: Option<String>,
+    /// Occupied hours START-END in decimal local standard time: START <= hour < END. LEED
+    /// and IES LM-83 use 8-18; the seed used 9-17 for TAI (ch. 2) and 8-17 for RMSE (App. A).
+    #[arg(long, value_name = "START-END", default_value = "8-18")]
+    occupied: String,
+    /// Count Monday to Friday only (weekday from an EPW's DATA PERIODS, or --jan1).
+    #[arg(long)]
+    weekdays: bool,
+    /// Weekday of 1 January (e.g. Monday) for --weekdays.
+    #[arg(long, value_name = "DAY")]
+    jan1: Option<String>,
+    /// Occupancy flags instead of --occupied: one 0 or 1 per column, one per line.
+    #[arg(long, value_name = "FILE")]
+    schedule: Option<String>,
+    /// Without time stamps: count every column as an occupied one-hour step.
+    #[arg(long)]
+    all_steps: bool,
+}
+
+#[derive(Subcommand)]
+enum Cmd {
+    /// PE, MAPE, RMSE (seed Appendix A) of variants against a benchmark: two or more
+    /// rmetrics TSV tables, or two or more illuminance matrices (then with the same time
+    /// stamp options as the main command).
+    Compare {
+        /// Benchmark (TSV table or matrix).
+        benchmark: String,
+        /// One or more variants of the same kind.
+        #[arg(required = true)]
+        variants: Vec<String>,
+        #[command(flatten)]
+        sched: SchedArgs,
+    },
+}
+
+fn pair(s: &str, what: &str, n: usize) -> Result<Vec<f64>, Error> {
+    let v: Vec<f64> = s
+        .split(',')
+        .map(|x| x.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| {
+            Error::Usage(format!(
+                "{what}: expected {n} comma-separated numbers, found '{s}'"
+            ))
+        })?;
+    if v.len() != n {
+        return Err(Error::Usage(format!(
+            "{what}: expected {n} comma-separated numbers, found '{s}'"
+        )));
+    }
+    Ok(v)
+}
+
+impl SchedArgs {
+    fn spec(&self) -> Result<ScheduleSpec, Error> {
+        Ok(ScheduleSpec {
+            weather: self.weather.clone(),
+            hours: self.hours.clone(),
+            occupied: Some(parse_range(&self.occupied)?),
+            weekdays: self.weekdays,
+            jan1: self.jan1.clone(),
+            flags: self.schedule.clone(),
+            all_steps: self.all_steps,
+        })
+    }
+}
+
+fn write_out(
+    path: Option<&str>,
+    f: impl FnOnce(&mut dyn Write) -> Result<(), Error>,
+) -> Result<(), Error> {
+    match path {
+        Some(p) if p != "-" => rdaylight::cli::write_atomically(Path::new(p), f),
+        _ => {
+            let mut out = std::io::BufWriter::new(std::io::stdout().lock());
+            f(&mut out)?;
+            out.flush().map_err(|e| Error::io("<stdout>", e))
+        }
+    }
+}
+
+fn run_compare(bench: &str, variants: &[String], sched: &SchedArgs) -> Result<(), Error> {
+    use std::io::Read;
+    let text = |p: &str| std::fs::read(p).map_err(|e| Error::io(p, e));
+    // Only the start decides (a matrix is then streamed, never loaded whole).
+    let mut first = Vec::new();
+    std::fs::File::open(bench)
+        .and_then(|f| f.take(4096).read_to_end(&mut first))
+        .map_err(|e| Error::io(bench, e))?;
+    let is_table = String::from_utf8_lossy(&first)
+        .lines()
+        .find(|l| !l.starts_with('#') && !l.trim().is_empty())
+        .is_some_and(|l| l.starts_with("sensor\t"));
+    let rows = if is_table {
+        let b = report::read_tsv(&String::from_utf8_lossy(&text(bench)?), bench)?;
+        let mut vs = Vec::new();
+        for v in variants {
+            vs.push((
+                v.clone(),
+                report::read_tsv(&String::from_utf8_lossy(&text(v)?), v)?,
+            ));
+        }
+        compare::compare_tables(&b, bench, &vs)?
+    } else {
+        let mut b = LuxRows::open(bench)?;
+        let schedule = sched.spec()?.build(b.ncols(), bench)?;
+        let mut vs = variants
+            .iter()
+            .map(|v| LuxRows::open(v))
+            .collect::<Result<Vec<_>, _>>()?;
+        compare::compare_matrices(&mut b, &mut vs, &schedule)?
+    };
+    write_out(None, |w| {
+        compare::write_comparison(w, bench, variants, &rows)
+    })
+}
+
+fn real_main() -> Result<(), Error> {
+    let cli = Cli::parse();
+    if let Some(Cmd::Compare {
+        benchmark,
+        variants,
+        sched,
+    }) = &cli.cmd
+    {
+        return run_compare(benchmark, variants, sched);
+    }
+    let udi = pair(&cli.udi, "--udi", 3)?;
+    let ase = pair(&cli.ase, "--ase", 2)?;
+    let t = Thresholds {
+        udi_low: udi[0],
+        udi_mid: udi[1],
+        udi_high: udi[2],
+        da: cli.da,
+        sda_percent: cli.sda,
+        ase_lux: ase[0],
+        ase_hours: ase[1],
+    };
+    t.check()?;
+    if let Some(m) = &cli.map {
+        if !column_names(true).contains(&m.as_str()) {
+            return Err(Error::Usage(format!(
+                "--map: unknown metric '{m}'; one of {}",
+                column_names(true).join(", ")
+            )));
+        }
+        if m.starts_with("ASE") && cli.direct_sun.is_none() {
+            return Err(Error::Usage(metrics::ASE_REFUSAL.into()));
+        }
+        if cli.pts.is_none() {
+            return Err(Error::Usage(
+                "--map needs the sensor positions (--pts FILE)".into(),
+            ));
+        }
+    }
+    let positions = match &cli.pts {
+        Some(p) => {
+            let f = std::fs::File::open(p).map_err(|e| Error::io(p, e))?;
+            Some(read_rays(std::io::BufReader::new(f), p, RayFormat::Ascii)?)
+        }
+        None => None,
+    };
+    let mut illum = LuxRows::open(&cli.illum)?;
+    let schedule = cli.sched.spec()?.build(illum.ncols(), illum.name())?;
+    let mut direct = cli.direct_sun.as_deref().map(LuxRows::open).transpose()?;
+    let res = metrics::compute(&mut illum, direct.as_mut(), &schedule, &t)?;
+    if let Some(p) = &positions {
+        if p.len() != res.sensors.len() {
+            return Err(Error::Mismatch(format!(
+                "{}: {} sensor points but {} has {} rows",
+                cli.pts.as_deref().unwrap_or(""),
+                p.len(),
+                illum.name(),
+                res.sensors.len()
+            )));
+        }
+    }
+    for n in &res.notes {
+        if n.starts_with("input was RGB") {
+            eprintln!("rmetrics: note: {n}");
+        }
+    }
+    let pos = positions.as_deref();
+    if let (Some(m), Some(png)) = (&cli.map, &cli.png) {
+        let k = column_names(res.with_ase)
+            .iter()
+            .position(|c| c == m)
+            .ok_or_else(|| Error::Usage(metrics::ASE_REFUSAL.into()))?;
+        let pts: Vec<[f64; 2]> = pos
+            .unwrap_or(&[])
+            .iter()
+            .map(|r| [r.org[0], r.org[1]])
+            .collect();
+        let vals: Vec<f64> = res.sensors.iter().map(|s| s.values()[k]).collect();
+        let bytes = map::png_bytes(&map::render(&pts, &vals)?)?;
+        rdaylight::cli::write_atomically(Path::new(png), |w| {
+            w.write_all(&bytes).map_err(|e| Error::io(png, e))
+        })?;
+    }
+    if let Some(j) = &cli.json {
+        rdaylight::cli::write_atomically(Path::new(j), |w| {
+            report::write_json(w, &cli.illum, &res, &t, pos)
+        })?;
+    }
+    write_out(cli.output.as_deref(), |w| {
+        report::write_tsv(w, &cli.illum, &res, &t, pos)
+    })
+}
+
+fn main() {
+    rdaylight::cli::run("rmetrics", real_main)
+>>>>>>> rmetrics
 }

@@ -9,6 +9,7 @@
 //! - [`scene`]: the `.rad` scene description: grammar, inline `!commands`, typed primitives.
 //! - [`sky`]: sky patch layouts, solar position, CIE (gensky) and Perez (gendaymtx) skies.
 //! - [`material`]: Radiance's materials for the path tracer (Ward, glass, mirror, sources).
+//! - [`metrics`]: annual daylight metrics (TAI, UDI, DA, sDA, ASE), Appendix-A errors, maps.
 //! - [`radiometry`]: channel layouts (RGB or N spectral bands) shared by every buffer.
 //! - [`info`]: summaries of any file (what `rinfo` prints).
 //! - [`geometry`]: shapes, rays, polygon triangulation and the scene BVH for the ray tracer.
@@ -17,9 +18,10 @@
 pub mod cli;
 pub mod error;
 pub mod formats;
-pub mod info;
 pub mod geometry;
+pub mod info;
 pub mod material;
+pub mod metrics;
 pub mod radiometry;
 pub mod scene;
 pub mod sky;
