@@ -1,10 +1,3 @@
-<<<<<<< HEAD
-//! (being written)
-fn main() {
-    rdaylight::cli::run("rmetrics", || {
-        Err(rdaylight::Error::Usage("not implemented yet".into()))
-    })
-=======
 //! `rmetrics`: annual daylight metrics (TAI, UDI, DA, sDA, ASE) from an illuminance matrix,
 //! falsecolor maps, and Appendix-A errors between model variants. The physics lives in
 //! `rdaylight::metrics`; this file parses options and opens files.
@@ -313,5 +306,4 @@ fn real_main() -> Result<(), Error> {
 
 fn main() {
     rdaylight::cli::run("rmetrics", real_main)
->>>>>>> rmetrics
 }
