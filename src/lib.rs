@@ -8,6 +8,8 @@
 //!   errors that name file, line and what was expected.
 //! - [`scene`]: the `.rad` scene description: grammar, inline `!commands`, typed primitives.
 //! - [`sky`]: sky patch layouts, solar position, CIE (gensky) and Perez (gendaymtx) skies.
+//! - [`rdc`]: the ray-tracing driver (rcontrib / rtrace -I / rpict counterpart) and its
+//!   tracer seam.
 //! - [`radiometry`]: channel layouts (RGB or N spectral bands) shared by every buffer.
 //! - [`info`]: summaries of any file (what `rinfo` prints).
 //! - [`cli`]: what the thin binaries in `bin/` share (exit codes, progress, atomic output).
@@ -17,6 +19,7 @@ pub mod error;
 pub mod formats;
 pub mod info;
 pub mod radiometry;
+pub mod rdc;
 pub mod scene;
 pub mod sky;
 
