@@ -22,6 +22,17 @@ fn real_main() -> Result<(), rdaylight::Error> {
     let has_view = rest.len() + 1 != argv.len();
     let mut clap_args = vec!["rdc".to_string()];
     clap_args.extend(radiance_args(&rest));
-    let opts = Options::try_parse_from(clap_args).unwrap_or_else(|e| e.exit());
+    let opts = match Options::try_parse_from(clap_args) {
+        Ok(o) => o,
+        Err(e) if !e.use_stderr() => e.exit(), // --help: print and exit 0
+        // One line and status 1 like every other error (clap would print a block, status 2).
+        Err(e) => {
+            let text = e.to_string();
+            let first = text.lines().next().unwrap_or("bad command line");
+            return Err(rdaylight::Error::Usage(
+                first.trim_start_matches("error: ").to_string(),
+            ));
+        }
+    };
     run::main(&opts, has_view.then_some(view), &command)
 }

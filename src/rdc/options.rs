@@ -33,6 +33,8 @@ Radiance counterparts: sky coefficients = rcontrib -I+ -e MF:N -f reinhart.cal -
 -bn Nrbins -m skyglow (a 360-degree glow source, ground = bin 0); -I without -m = rtrace -I -h;
 view options = rpict; --suns = the five-phase sun coefficients (radiance-notes 6.6).
 Options are written as Radiance writes them: -ab 5, -ad 4096, -I+, -faf, -h, -vta ...
+View options (rpict, turn on picture mode): -vt[vlahsc] -vp x y z -vd x y z -vu x y z
+-vh deg -vv deg -vo d -va d -vs s -vl l -vf file; -x -y give the size (default 512).
 
 Examples:
   Two-phase daylight coefficients, then annual illuminance in lux:
