@@ -8,7 +8,7 @@ mod common;
 use common::{ours, radiance, repo, run, run_ok, tmpdir};
 use rdaylight::formats::matrix::{Matrix, ReadOptions};
 use rdaylight::sky::SkyPatches;
-use std::f64::consts::PI;
+use std::f64::consts::{FRAC_1_SQRT_2, PI};
 
 fn fixture(p: &str) -> String {
     repo()
@@ -88,7 +88,7 @@ fn open_sky_coefficients_are_projected_solid_angles() {
     // chi2/dof has sd sqrt(2/dof) = 0.117; 4 sd, and no single bin beyond 4.5 sd
     // (P < 1e-3 over 145 bins).
     assert!(
-        chi2 / dof < 1.0 + 4.0 * (2.0 / dof as f64).sqrt(),
+        chi2 / dof < 1.0 + 4.0 * (2.0 / dof).sqrt(),
         "chi2/dof {}",
         chi2 / dof
     );
@@ -279,7 +279,7 @@ fn point_in_time_irradiance_equals_the_integrated_sky() {
     let normals = [
         [0.0, 0.0, 1.0],
         [0.0, -1.0, 0.0],
-        [0.70710678, 0.0, 0.70710678],
+        [FRAC_1_SQRT_2, 0.0, FRAC_1_SQRT_2],
         [0.0, 0.0, -1.0],
     ];
     for (case, args, sun) in [
