@@ -15,8 +15,8 @@
 //! | `brightfunc` | `perezlum.cal` | `skybright` | [`crate::sky::perez::perezlum`] (gendaylit) |
 //!
 //! A direction is seen on the distant source that contains it (within half its apex angle
-//! of its direction); where several overlap, the smallest one wins, so a sun disc sits in
-//! front of the sky dome. A `glow` with a negative radius never illuminates (notes 5.3):
+//! of its direction); where several overlap, Radiance's `sourcehit` rule applies: the first
+//! `light` in scene order, else the last `glow` (so a sun disc sits in front of the dome). A `glow` with a negative radius never illuminates (notes 5.3):
 //! sensors do not see it, view rays do. Patterns with transforms, other `.cal` files and
 //! patterns on suns are reported as unsupported, with their location.
 
@@ -103,12 +103,15 @@ impl Sky {
     /// RGB radiance seen in direction `dir`. `for_irradiance`: what an ambient (hemisphere)
     /// sample sees: glows that illuminate, and nothing inside a sun (counted directly).
     pub fn radiance(&self, dir: [f64; 3], for_irradiance: bool) -> [f64; 3] {
+        // Radiance's `sourcehit` (src/rt/source.c): the first light source whose disc holds
+        // the direction wins; glows (skipped as direct sources) are only a fallback, the
+        // last one in scene order that holds it.
+        let holds = |s: &&DistantSource| dot(dir, s.dir) >= s.cos_half;
         let best = self
-            .glows
+            .suns
             .iter()
-            .chain(&self.suns)
-            .filter(|s| dot(dir, s.dir) >= s.cos_half)
-            .min_by(|a, b| a.solid_angle.total_cmp(&b.solid_angle));
+            .find(holds)
+            .or_else(|| self.glows.iter().rev().find(holds));
         match best {
             None => [0.0; 3],
             Some(s) if for_irradiance && (s.is_light || !s.illuminates) => [0.0; 3],
