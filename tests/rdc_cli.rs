@@ -682,6 +682,40 @@ fn every_truncated_sensor_file_gives_rows_or_one_error() {
 }
 
 #[test]
+fn random_bytes_never_panic() {
+    // Deterministic pseudo-random bytes (xorshift) as ascii and as float/double rays.
+    let mut x: u64 = 0x2545_f491_4f6c_dd1d;
+    let bytes: Vec<u8> = (0..4800)
+        .map(|_| {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            x as u8
+        })
+        .collect();
+    for f in ["-fa", "-ff", "-fd"] {
+        for len in [1, 23, 24, 480, 4800] {
+            let out = run(
+                ours("rdc").args(["-I", "-m", "1", "-ad", "2", "-h", f]),
+                &bytes[..len],
+            );
+            let err = String::from_utf8_lossy(&out.stderr);
+            assert!(!err.contains("panicked"), "{f} {len}: {err}");
+            assert!(
+                out.status.code() == Some(0) || err.lines().count() == 1,
+                "{f} {len}: {err}"
+            );
+        }
+    }
+    let e = fails(
+        &["-I", "-m", "1", "--se-out", "/nonexistent/dir/se"],
+        &sensors(),
+        false,
+    );
+    assert!(e.contains("/nonexistent/dir/se"), "{e}");
+}
+
+#[test]
 fn help_documents_every_option_with_radiance_counterparts() {
     let out = run_ok(ours("rdc").arg("--help"), b"");
     let h = String::from_utf8(out).unwrap();

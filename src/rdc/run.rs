@@ -396,8 +396,9 @@ pub fn sensors<R: BufRead, W: Write>(
     };
     let ncols = job.mode.ncols();
     let header = output::header(command, None, &channels, Some(nrows), ncols, format);
-    let mut sink = Sink::matrix(out, header, nrows, ncols, channels, format, opts, seekable)?;
+    // The --se-out file first: an unwritable path must fail before stdout gets a header.
     let mut se_out = output::SeWriter::open(opts.se_out.as_deref(), command, nrows)?;
+    let mut sink = Sink::matrix(out, header, nrows, ncols, channels, format, opts, seekable)?;
     let progress = Progress {
         show: crate::cli::show_progress(),
         total: Some(nrows),
@@ -484,6 +485,7 @@ fn picture(
     let ncols = job.mode.ncols();
     let stdout = std::io::stdout();
     let matrix = !matches!(job.mode, Mode::Values { .. });
+    let mut se_out = output::SeWriter::open(opts.se_out.as_deref(), command, nrec)?;
     let mut sink = if matrix {
         let header = output::header(
             command,
@@ -507,7 +509,6 @@ fn picture(
         let header = output::header(command, Some(cam.view()), &channels, None, 0, format);
         Sink::picture(stdout.lock(), header, xres, yres, channels)?
     };
-    let mut se_out = output::SeWriter::open(opts.se_out.as_deref(), command, nrec)?;
     let progress = Progress {
         show: crate::cli::show_progress(),
         total: Some(nrec),
