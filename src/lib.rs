@@ -10,6 +10,8 @@
 //! - [`sky`]: sky patch layouts, solar position, CIE (gensky) and Perez (gendaymtx) skies.
 //! - [`material`]: Radiance's materials for the path tracer (Ward, glass, mirror, sources).
 //! - [`metrics`]: annual daylight metrics (TAI, UDI, DA, sDA, ASE), Appendix-A errors, maps.
+//! - [`rdc`]: the ray-tracing driver (rcontrib / rtrace -I / rpict counterpart) and its
+//!   tracer seam.
 //! - [`radiometry`]: channel layouts (RGB or N spectral bands) shared by every buffer.
 //! - [`info`]: summaries of any file (what `rinfo` prints).
 //! - [`geometry`]: shapes, rays, polygon triangulation and the scene BVH for the ray tracer.
@@ -23,6 +25,7 @@ pub mod info;
 pub mod material;
 pub mod metrics;
 pub mod radiometry;
+pub mod rdc;
 pub mod scene;
 pub mod sky;
 

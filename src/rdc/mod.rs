@@ -1,0 +1,37 @@
+//! # `rdc`: the ray-tracing core's driver (rcontrib / rtrace -I / rpict counterpart)
+//!
+//! Everything around the light transport, behind one narrow trait so that the path tracer
+//! (after `geometry` and `material`) drops in without touching the rest:
+//!
+//! | module | concept |
+//! |---|---|
+//! | [`options`] | the option set, Radiance's letters and meanings, rcontrib's defaults, presets |
+//! | [`intake`] | scene loading: sky and ground glows, `skybright.cal`/`perezlum.cal` skies, suns, surfaces |
+//! | [`tracer`] | the seam: [`tracer::Estimator`], [`tracer::Tally`], [`tracer::Mode`]; the open-sky reference estimator |
+//! | [`run`] | the parallel, deterministic, streaming driver (sensors and pictures) |
+//! | [`output`] | headers (rcontrib's order), ascii/float/double/RGBE rows, pictures, `--se-out` |
+//!
+//! Modes (radiance-notes.md 6.2, 6.4, 6.6, 11.1):
+//!
+//! ```text
+//! rdc [opts] -I -m MF scene.rad < sensors.pts > dc.mtx      sky coefficients, rows = sensors,
+//!                                                           columns = 144 MF^2 + 2 (ground first)
+//! rdc -I --direct -m MF ...                                 direct-only coefficients (C_dcd)
+//! rdc -I --suns MF|site.wea ...                             sun coefficients (C_ds)
+//! rdc -I scene.rad sky.rad < sensors.pts                    point-in-time irradiance (rtrace -I -h)
+//! rdc -vta ... -x X -y Y scene.rad sky.rad > view.hdr       picture (rpict); with -m MF: per-pixel
+//!                                                           coefficients, rows = pixels
+//! ```
+//!
+//! Until the tracer exists, [`tracer::OpenSky`] computes scenes without surfaces exactly in
+//! distribution (each sensor sees the whole sky), which is what the tests compare with the
+//! analytic answer and with real rcontrib/rtrace.
+
+pub mod intake;
+pub mod options;
+pub mod output;
+pub mod run;
+pub mod tracer;
+
+pub use options::Options;
+pub use tracer::{Estimator, Mode, OpenSky, Quantity, Query, Tally};

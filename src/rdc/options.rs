@@ -1,0 +1,394 @@
+//! # `rdc` options: Radiance's letters and meanings, rcontrib's defaults
+//!
+//! `rdc` stands where `rcontrib` (coefficients), `rtrace -I` (point-in-time values) and
+//! `rpict` (pictures) stand in a Radiance pipeline, so it takes their option letters
+//! (radiance-notes.md 6.2, 11.2). clap cannot parse two-letter short options, so
+//! [`radiance_args`] rewrites the Radiance spellings (`-ab 5`, `-I+`, `-h-`, `-oi`) into
+//! the long forms clap knows (`--ab 5`, `--irradiance`, `-h`, `--oi`) before parsing, and the
+//! view options (`-vta -vp ...`) are taken out beforehand with `View::extract_args`.
+//!
+//! | option | meaning | default | Radiance | honoured by the open-sky estimator |
+//! |---|---|---|---|---|
+//! | `-ab N` | diffuse bounces | 1 | rcontrib `-ab` | 0 vs >0 (glow skies need one bounce) |
+//! | `-ad N` | samples per record and batch | 350 | rcontrib `-ad` | yes |
+//! | `-lw W` | path weight limit | 2e-3 | rcontrib `-lw` | no effect without surfaces |
+//! | `-lr N` | reflection limit | -10 | rcontrib `-lr` | no effect without surfaces |
+//! | `-dj F` | source jitter | 0.9 | rcontrib `-dj` | no (suns are exact) |
+//! | `-st F` / `-ss F` | specular threshold / sampling | 0.02 / 1 | rcontrib | no surfaces |
+//! | `--preset P` | `draft`: -ab 3 -ad 1024 -lw 1e-3; `standard`: -ab 5 -ad 4096 -lw 1e-4; `converged`: -ab 7 -ad 16384 -lw 1e-5 | | | |
+//!
+//! Preset figures: BENCHMARKING.md measured `-ab 3 -ad 1000` at 5.8 % median run-to-run
+//! spread and 9.7 % low against `-ab 5` in the side-lit office, and the `-ab 5 -ad 10000
+//! -lw 1e-5` references at about 1 %; `standard` sits between, `converged` beyond the
+//! references. Explicit `-ab/-ad/-lw` override the preset.
+
+use crate::error::{Error, Result};
+use crate::formats::matrix::DataFormat;
+use crate::formats::sensors::RayFormat;
+use crate::radiometry::Channels;
+use clap::Parser;
+
+pub const EXAMPLES: &str = "\
+Radiance counterparts: sky coefficients = rcontrib -I+ -e MF:N -f reinhart.cal -b rbin
+-bn Nrbins -m skyglow (a 360-degree glow source, ground = bin 0); -I without -m = rtrace -I -h;
+view options = rpict; --suns = the five-phase sun coefficients (radiance-notes 6.6).
+Options are written as Radiance writes them: -ab 5, -ad 4096, -I+, -faf, -h, -vta ...
+View options (rpict, turn on picture mode): -vt[vlahsc] -vp x y z -vd x y z -vu x y z
+-vh deg -vv deg -vo d -va d -vs s -vl l -vf file; -x -y give the size (default 512).
+
+Examples:
+  Two-phase daylight coefficients, then annual illuminance in lux:
+    rdc -I -ab 5 -ad 10000 -lw 1e-5 -faf -m 1 room.rad < sensors.pts > dc.mtx
+    gendaymtx -m 1 -of site.wea > sky.smx
+    dctimestep dc.mtx sky.smx | rmtxop -fa -c 47.4 119.9 11.6 - > ill.txt
+  Direct-only coefficients and sun coefficients (DDS / five-phase):
+    rdc -I --direct -m 1 -faf room.rad < sensors.pts > dcd.mtx
+    rdc -I --suns 6 -faf room.rad < sensors.pts > cds.mtx
+  Point-in-time illuminance under a CIE sky (as rtrace -I -h ... | rcalc 179*...):
+    gensky 3 21 12 +s > sky.rad; cat skyglow.rad >> sky.rad
+    rdc -I -oi --preset standard room.rad sky.rad < sensors.pts
+  A 180-degree fisheye picture, then glare:
+    rdc -vta -vp 3 2 1.2 -vd 0 1 0 -vh 180 -vv 180 -x 512 -y 512 room.rad sky.rad > eye.hdr
+    evalglare eye.hdr";
+
+/// Daylight coefficients, point-in-time values and pictures (rcontrib / rtrace -I / rpict).
+///
+/// Sensors (`x y z dx dy dz`, one per line, or float/double with -ff/-fd) are read from
+/// standard input; scene files (`.rad`, `-`, or `!command`) are the arguments. Rows of the
+/// output follow the input order; results are identical for a given -s seed whatever -n.
+/// Without -y, sensors (not results) are read first to count them, so NROWS is always in
+/// the header (rmtxop needs it); with -y the input streams in constant memory.
+#[derive(Parser, Debug, Clone)]
+#[command(name = "rdc", disable_help_flag = true, after_help = EXAMPLES)]
+pub struct Options {
+    /// Ambient bounces (rcontrib -ab; default 1). 0 makes glow skies invisible to -I
+    /// sensors, as in Radiance.
+    #[arg(long = "ab", value_name = "N")]
+    pub ab: Option<u32>,
+
+    /// Samples per record and batch (rcontrib -ad; default 350): hemisphere samples of a -I
+    /// sensor, paths through a pixel (jittered over the pixel) or along a ray.
+    #[arg(long = "ad", value_name = "N")]
+    pub ad: Option<usize>,
+
+    /// Path weight limit for Russian roulette (rcontrib -lw; default 2e-3). Accepted; the
+    /// open-sky estimator has no paths to end.
+    #[arg(long = "lw", value_name = "W")]
+    pub lw: Option<f64>,
+
+    /// Reflection limit (rcontrib -lr; default -10: roulette, at most 10). Accepted.
+    #[arg(long = "lr", value_name = "N", allow_hyphen_values = true)]
+    pub lr: Option<i32>,
+
+    /// Source jitter (rcontrib -dj; default 0.9). Accepted; suns are integrated exactly.
+    #[arg(long = "dj", value_name = "F")]
+    pub dj: Option<f64>,
+
+    /// Specular threshold (rcontrib -st; default 0.02). Accepted.
+    #[arg(long = "st", value_name = "F")]
+    pub st: Option<f64>,
+
+    /// Specular sampling (rcontrib -ss; default 1). Accepted.
+    #[arg(long = "ss", value_name = "F")]
+    pub ss: Option<f64>,
+
+    /// Named sample settings: draft (-ab 3 -ad 1024 -lw 1e-3), standard (-ab 5 -ad 4096
+    /// -lw 1e-4), converged (-ab 7 -ad 16384 -lw 1e-5). Explicit -ab/-ad/-lw win.
+    #[arg(long = "preset", value_name = "draft|standard|converged")]
+    pub preset: Option<Preset>,
+
+    /// Irradiance sensors (-I or -I+, as rcontrib -I+ / rtrace -I): each input ray is a
+    /// point and a surface normal; the point is moved 1.1e-4 along the normal (rcontrib's
+    /// eval_irrad offset). Without -I each ray is a radiance ray.
+    #[arg(long = "irradiance")]
+    pub irradiance: bool,
+
+    /// Sky coefficients on the Reinhart sky with subdivision MF (1 = Tregenza): columns =
+    /// 144 MF^2 + 2 patches, ground first, in gendaymtx -m MF row order (rcontrib -e MF:N -f
+    /// reinhart.cal -b rbin -bn Nrbins on a 360-degree glow source). Sky sources in the
+    /// scene are then ignored: every ray that leaves the scene is binned by direction.
+    #[arg(short = 'm', value_name = "MF")]
+    pub mf: Option<usize>,
+
+    /// With -m: direct-only coefficients C_dcd (patches seen straight from the sensor, no
+    /// inter-reflection), what Radiance computes with -ab 1 on a black room (DDS, notes 6.6).
+    #[arg(long = "direct")]
+    pub direct: bool,
+
+    /// Sun coefficients: MF = one unit-radiance sun at each Reinhart MF patch centre
+    /// (columns = 144 MF^2 + 2 like gendaymtx -5 0.533 -d -m MF; the ground column is 0);
+    /// or a .wea/.epw file = one sun per time step at its solar position (a zero column when
+    /// the sun is down). Coefficient = light of a unit-radiance disc, so multiply by the
+    /// sun's radiance.
+    #[arg(long = "suns", value_name = "MF|weather-file")]
+    pub suns: Option<String>,
+
+    /// Full apex angle of the --suns discs in degrees (gendaymtx -5 0.533).
+    #[arg(long = "sun-angle", value_name = "DEG", default_value_t = 0.533)]
+    pub sun_angle: f64,
+
+    /// Number of spectral channels (Radiance -cs; default 3 = RGB).
+    #[arg(long = "cs", value_name = "N")]
+    pub cs: Option<usize>,
+
+    /// Wavelength range of -cs channels in nm (Radiance -cw; default 380 780).
+    #[arg(long = "cw", num_args = 2, value_names = ["MIN", "MAX"])]
+    pub cw: Option<Vec<f64>>,
+
+    /// Input/output formats, rtrace's -f[io]: a ascii, f float, d double; c (output only)
+    /// RGBE/Radiance_spectra rows. One letter sets both (-ff reads float rays); -faf reads
+    /// ascii and writes float. Default -faa. Pictures are always RGBE (or spectra).
+    #[arg(short = 'f', value_name = "io")]
+    pub format: Option<String>,
+
+    /// No information header (Radiance -h, -h-; -h+ keeps it).
+    #[arg(short = 'h')]
+    pub no_header: bool,
+
+    /// Worker threads (rcontrib -n; default: all cores). Output does not depend on it.
+    #[arg(short = 'n', value_name = "N")]
+    pub threads: Option<usize>,
+
+    /// Random seed (Radiance has none: BENCHMARKING.md rule 2). Each record's stream is
+    /// derived from (seed, record index).
+    #[arg(short = 's', value_name = "SEED", default_value_t = 0)]
+    pub seed: u64,
+
+    /// Picture width (rpict -x; default 512), or with -m and a view the pixel columns.
+    #[arg(short = 'x', value_name = "X")]
+    pub x: Option<usize>,
+
+    /// Picture height (rpict -y; default 512); for sensor input the number of sensors,
+    /// written as NROWS and checked (rcontrib -y); the input then streams.
+    #[arg(short = 'y', value_name = "Y")]
+    pub y: Option<usize>,
+
+    /// Stop sampling a record once its relative standard error (RMS of the column SEs over
+    /// the mean column value) is below this target; samples come in batches of -ad, at
+    /// most --max-samples.
+    #[arg(long = "target-se", value_name = "REL")]
+    pub target_se: Option<f64>,
+
+    /// Upper limit on samples per record with --target-se (default 100 x -ad).
+    #[arg(long = "max-samples", value_name = "N")]
+    pub max_samples: Option<usize>,
+
+    /// Write each record's relative standard error and sample count to FILE (an ascii
+    /// matrix, NCOLS=2, NCOMP=1).
+    #[arg(long = "se-out", value_name = "FILE")]
+    pub se_out: Option<String>,
+
+    /// Do not run !commands in scene files (error instead).
+    #[arg(long = "no-exec")]
+    pub no_exec: bool,
+
+    /// Illuminance output for -I: one value per column, 179 x (0.265 R + 0.670 G + 0.065 B)
+    /// lux (rmtxop -c 47.4 119.9 11.6).
+    #[arg(long = "oi")]
+    pub oi: bool,
+
+    /// Print help.
+    #[arg(long = "help", action = clap::ArgAction::Help)]
+    pub help: Option<bool>,
+
+    /// Scene files (.rad), `-` (standard input) or `!command`.
+    #[arg(value_name = "SCENE")]
+    pub scene: Vec<String>,
+}
+
+/// `--preset` values.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Preset {
+    Draft,
+    Standard,
+    Converged,
+}
+
+impl Preset {
+    /// `(ab, ad, lw)`; the figures are justified in the module documentation.
+    pub fn settings(self) -> (u32, usize, f64) {
+        match self {
+            Preset::Draft => (3, 1024, 1e-3),
+            Preset::Standard => (5, 4096, 1e-4),
+            Preset::Converged => (7, 16384, 1e-5),
+        }
+    }
+}
+
+/// rcontrib's defaults (radiance-notes.md 11.2, `rcontrib -defaults`).
+pub const RCONTRIB_AB: u32 = 1;
+pub const RCONTRIB_AD: usize = 350;
+pub const RCONTRIB_LW: f64 = 2e-3;
+pub const RCONTRIB_LR: i32 = -10;
+pub const RCONTRIB_DJ: f64 = 0.9;
+pub const RCONTRIB_ST: f64 = 0.02;
+pub const RCONTRIB_SS: f64 = 1.0;
+/// rpict's default picture size.
+pub const RPICT_RES: usize = 512;
+/// rcontrib's `-I+` origin offset along the normal (`eval_irrad`, notes 6.2).
+pub const IRRADIANCE_OFFSET: f64 = 1.1e-4;
+
+/// Rewrite Radiance's option spellings into clap's (program name excluded).
+pub fn radiance_args<S: AsRef<str>>(args: &[S]) -> Vec<String> {
+    const LONG: &[&str] = &[
+        "-ab", "-ad", "-lw", "-lr", "-dj", "-st", "-ss", "-cs", "-cw", "-oi",
+    ];
+    let mut out = Vec::with_capacity(args.len());
+    let mut after_dashes = false;
+    for a in args {
+        let a = a.as_ref();
+        if after_dashes {
+            out.push(a.to_string());
+            continue;
+        }
+        match a {
+            "--" => {
+                after_dashes = true;
+                out.push(a.to_string());
+            }
+            "-I" | "-I+" => out.push("--irradiance".into()),
+            "-I-" | "-h+" => {}
+            "-h-" => out.push("-h".into()),
+            _ if LONG.contains(&a) => out.push(format!("-{a}")),
+            _ => out.push(a.to_string()),
+        }
+    }
+    out
+}
+
+/// Numbers after preset, explicit options and defaults.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Sampling {
+    pub ab: u32,
+    pub ad: usize,
+    pub lw: f64,
+    pub lr: i32,
+    pub dj: f64,
+    pub st: f64,
+    pub ss: f64,
+}
+
+impl Options {
+    /// Sampling settings: explicit option, else preset, else rcontrib's default.
+    pub fn sampling(&self) -> Result<Sampling> {
+        let (pab, pad, plw) =
+            self.preset
+                .map(Preset::settings)
+                .unwrap_or((RCONTRIB_AB, RCONTRIB_AD, RCONTRIB_LW));
+        let s = Sampling {
+            ab: self.ab.unwrap_or(pab),
+            ad: self.ad.unwrap_or(pad),
+            lw: self.lw.unwrap_or(plw),
+            lr: self.lr.unwrap_or(RCONTRIB_LR),
+            dj: self.dj.unwrap_or(RCONTRIB_DJ),
+            st: self.st.unwrap_or(RCONTRIB_ST),
+            ss: self.ss.unwrap_or(RCONTRIB_SS),
+        };
+        if s.ad == 0 {
+            return Err(Error::Usage("-ad 0: expected at least 1 sample".into()));
+        }
+        if s.lw.is_nan() || s.lw < 0.0 {
+            return Err(Error::Usage(format!("-lw {}: expected >= 0", s.lw)));
+        }
+        Ok(s)
+    }
+
+    /// Channel layout from -cs/-cw (RGB by default).
+    pub fn channels(&self) -> Result<Channels> {
+        match (self.cs, &self.cw) {
+            (None | Some(3), None) => Ok(Channels::rgb()),
+            (n, cw) => {
+                let (lo, hi) = match cw.as_deref() {
+                    Some([a, b]) => (*a, *b),
+                    _ => (380.0, 780.0),
+                };
+                Channels::spectral(n.unwrap_or(3), lo, hi)
+            }
+        }
+    }
+
+    /// Input ray format and output data format from `-f`.
+    pub fn formats(&self) -> Result<(RayFormat, DataFormat)> {
+        let f = self.format.as_deref().unwrap_or("aa");
+        let bad = || {
+            Error::Usage(format!(
+                "-f{f}: expected -f[a|f|d][a|f|d|c] (e.g. -faf: ascii rays in, float out)"
+            ))
+        };
+        let mut cs = f.chars();
+        let (i, o) = match (cs.next(), cs.next(), cs.next()) {
+            (Some(c), None, None) => (c, c),
+            (Some(i), Some(o), None) => (i, o),
+            _ => return Err(bad()),
+        };
+        let input = if i == 'c' {
+            return Err(bad());
+        } else {
+            RayFormat::from_letter(i).ok_or_else(bad)?
+        };
+        let output = match o {
+            'a' => DataFormat::Ascii,
+            'f' => DataFormat::Float,
+            'd' => DataFormat::Double,
+            'c' => DataFormat::Rgbe,
+            _ => return Err(bad()),
+        };
+        Ok((input, output))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn parse(args: &[&str]) -> Options {
+        let mut v = vec!["rdc".to_string()];
+        v.extend(radiance_args(args));
+        Options::try_parse_from(v).unwrap()
+    }
+
+    #[test]
+    fn radiance_spellings_reach_clap() {
+        let o = parse(&[
+            "-I+",
+            "-ab",
+            "5",
+            "-ad",
+            "1000",
+            "-lw",
+            "1e-5",
+            "-lr",
+            "-10",
+            "-faf",
+            "-h",
+            "-m",
+            "4",
+            "-oi",
+            "scene.rad",
+        ]);
+        assert!(o.irradiance && o.no_header && o.oi);
+        assert_eq!(
+            (o.ab, o.ad, o.lr, o.mf),
+            (Some(5), Some(1000), Some(-10), Some(4))
+        );
+        assert_eq!(o.lw, Some(1e-5));
+        assert_eq!(o.formats().unwrap(), (RayFormat::Ascii, DataFormat::Float));
+        assert_eq!(o.scene, ["scene.rad"]);
+    }
+
+    #[test]
+    fn presets_yield_to_explicit_options() {
+        let o = parse(&["--preset", "draft", "-ad", "10"]);
+        let s = o.sampling().unwrap();
+        assert_eq!((s.ab, s.ad, s.lw), (3, 10, 1e-3));
+        let d = parse(&[]).sampling().unwrap();
+        assert_eq!((d.ab, d.ad, d.lw, d.lr), (1, 350, 2e-3, -10));
+    }
+
+    #[test]
+    fn bad_formats_are_errors() {
+        for f in ["-fx", "-fca", "-faaa"] {
+            assert!(parse(&[f]).formats().is_err(), "{f}");
+        }
+    }
+}

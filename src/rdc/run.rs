@@ -1,0 +1,545 @@
+//! # The parallel driver
+//!
+//! Records (sensors from standard input, or picture pixels) are processed in blocks: a block
+//! is read, its records are computed in parallel with rayon, and its rows are written in
+//! input order before the next block is read, so memory holds one block of rows whatever the
+//! input size (the block shrinks for wide rows: at most [`BLOCK_BYTES`] of results).
+//!
+//! Determinism: record `i` draws from [`record_rng`]`(seed, i)` and is computed start to end
+//! by one thread, so the output is a function of the inputs and `-s` only, never of `-n`.
+//!
+//! Per record: batches of `-ad` samples go to the [`Estimator`]; without `--target-se` one
+//! batch is taken, with it batches continue until the record's relative standard error
+//! ([`Tally::relative_se`]) is at most the target or `--max-samples` is reached. The value
+//! written is the mean over all samples taken.
+
+use super::intake::{self, Sky};
+use super::options::{IRRADIANCE_OFFSET, Options, RPICT_RES, Sampling};
+use super::output::{self, Sink};
+use super::tracer::{
+    Estimator, Mode, OpenSky, Quantity, Query, Rng, SunDisc, Tally, TraceParams, normalized,
+    record_rng,
+};
+use crate::error::{Error, Location, Result};
+use crate::formats::matrix::DataFormat;
+use crate::formats::sensors::{Ray, RayReader};
+use crate::formats::view::{Camera, View};
+use crate::radiometry::{Channels, RGB_PHOTOPIC, RGB_PHOTOPIC_ROUNDED, WHITE_EFFICACY};
+use crate::scene::LoadOptions;
+use crate::sky::SkyPatches;
+use rand::Rng as _;
+use rayon::prelude::*;
+use std::io::{BufRead, Write};
+
+/// Upper bound on the results held for one block (bytes of f64 rows).
+pub const BLOCK_BYTES: usize = 64 << 20;
+/// Records per block at most (keeps progress reports and latency reasonable).
+pub const BLOCK_RECORDS: usize = 4096;
+/// Largest accepted Reinhart subdivision (MF 30: 129 602 columns per row).
+pub const MAX_MF: usize = 30;
+
+/// One record's result.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RecordResult {
+    /// `ncols * ncomp` values.
+    pub values: Vec<f64>,
+    /// Relative standard error ([`Tally::relative_se`]).
+    pub rel_se: f64,
+    pub samples: u64,
+}
+
+/// What every record shares.
+pub struct Job<'a> {
+    pub estimator: &'a dyn Estimator,
+    pub mode: Mode<'a>,
+    pub ncomp: usize,
+    /// Channel weights of the scalar whose variance is tracked.
+    pub weights: Vec<f64>,
+    pub ad: usize,
+    pub target_se: Option<f64>,
+    pub max_samples: usize,
+    pub seed: u64,
+}
+
+impl Job<'_> {
+    /// Compute record `index`; `query` gives the sample's ray (`None`: a zero sample, e.g. a
+    /// flush ray or a pixel corner outside a fisheye).
+    pub fn compute(
+        &self,
+        index: u64,
+        query: &dyn Fn(&mut Rng) -> Option<Query>,
+        tally: &mut Tally,
+    ) -> RecordResult {
+        tally.clear();
+        let mut rng = record_rng(self.seed, index);
+        loop {
+            for _ in 0..self.ad {
+                if let Some(q) = query(&mut rng) {
+                    self.estimator.sample(&q, &self.mode, &mut rng, tally);
+                }
+                tally.end_sample();
+            }
+            match self.target_se {
+                None => break,
+                Some(t) => {
+                    if tally.relative_se() <= t || tally.samples() as usize >= self.max_samples {
+                        break;
+                    }
+                }
+            }
+        }
+        let mut values = vec![0.0; tally.ncols() * tally.ncomp()];
+        tally.mean_into(&mut values);
+        RecordResult {
+            values,
+            rel_se: tally.relative_se(),
+            samples: tally.samples(),
+        }
+    }
+
+    /// Compute a block of records in parallel; results in input order.
+    pub fn block<T: Sync>(
+        &self,
+        first_index: u64,
+        items: &[T],
+        query: &(dyn Fn(&T, &mut Rng) -> Option<Query> + Sync),
+    ) -> Vec<RecordResult> {
+        let ncols = self.mode.ncols();
+        items
+            .par_iter()
+            .enumerate()
+            .with_min_len(4)
+            .map_init(
+                || Tally::new(ncols, self.ncomp, &self.weights),
+                |tally, (i, item)| {
+                    self.compute(first_index + i as u64, &|rng| query(item, rng), tally)
+                },
+            )
+            .collect()
+    }
+
+    /// Records per block for this row width.
+    pub fn block_len(&self) -> usize {
+        let row = (self.mode.ncols() * self.ncomp * 8).max(1);
+        (BLOCK_BYTES / row).clamp(1, BLOCK_RECORDS)
+    }
+}
+
+/// Everything `rdc` does after option parsing. `command` is the command line for the
+/// header; `view` is set when view options were given (picture mode).
+pub fn main(opts: &Options, view: Option<View>, command: &[String]) -> Result<()> {
+    let sampling = opts.sampling()?;
+    let channels = opts.channels()?;
+    let (ray_format, out_format) = opts.formats()?;
+    check_combinations(opts, view.is_some(), &channels)?;
+
+    // Scene first: its errors come before anything is read or written.
+    let mut lopts = LoadOptions::from_env();
+    lopts.allow_exec &= !opts.no_exec;
+    let intake = intake::load(&opts.scene, &lopts)?;
+    if let Some(s) = intake.first_surface() {
+        return Err(Error::Usage(format!(
+            "{s}: the tracer is not available yet; only open-sky scenes (sky and sun \
+             sources, no surfaces) can be computed"
+        )));
+    }
+
+    let patches = opts.mf.map(SkyPatches::new);
+    let suns = match &opts.suns {
+        Some(s) => Some(sun_discs(s, opts.sun_angle)?),
+        None => None,
+    };
+    let mode = if let Some(p) = &patches {
+        Mode::Sky {
+            patches: p,
+            direct_only: opts.direct,
+        }
+    } else if let Some(s) = &suns {
+        Mode::Suns { suns: s }
+    } else {
+        check_sky(&intake.sky, &opts.scene)?;
+        intake.sky.check_channels(channels.ncomp)?;
+        Mode::Values { sky: &intake.sky }
+    };
+
+    let params = trace_params(&sampling);
+    let estimator = OpenSky::new(params, channels.ncomp);
+    let weights = if channels.ncomp == 3 {
+        RGB_PHOTOPIC.to_vec()
+    } else {
+        vec![1.0 / channels.ncomp as f64; channels.ncomp]
+    };
+    let job = Job {
+        estimator: &estimator,
+        mode,
+        ncomp: channels.ncomp,
+        weights,
+        ad: sampling.ad,
+        target_se: opts.target_se,
+        max_samples: opts.max_samples.unwrap_or(100 * sampling.ad),
+        seed: opts.seed,
+    };
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(opts.threads.unwrap_or(0))
+        .build()
+        .map_err(|e| Error::Usage(format!("-n: cannot start threads: {e}")))?;
+    let out_channels = if opts.oi { Channels::mono() } else { channels };
+    let stdout = std::io::stdout();
+    let seekable = super::output::stdout_is_file();
+    pool.install(|| match view {
+        Some(v) => picture(opts, &job, v, command, out_format, out_channels, seekable),
+        None => {
+            let stdin = std::io::stdin();
+            let reader = RayReader::new(stdin.lock(), "<stdin>", ray_format);
+            sensors(
+                opts,
+                &job,
+                reader,
+                command,
+                out_format,
+                out_channels,
+                (stdout.lock(), seekable),
+            )
+        }
+    })
+}
+
+fn check_combinations(opts: &Options, picture: bool, channels: &Channels) -> Result<()> {
+    let usage = |m: &str| Err(Error::Usage(m.into()));
+    if opts.mf.is_some() && opts.suns.is_some() {
+        return usage("-m and --suns: one kind of coefficients per run");
+    }
+    if let Some(mf) = opts.mf {
+        if mf == 0 || mf > MAX_MF {
+            return Err(Error::Usage(format!(
+                "-m {mf}: expected a Reinhart subdivision from 1 (Tregenza) to {MAX_MF}"
+            )));
+        }
+    }
+    if opts.direct && opts.mf.is_none() {
+        return usage("--direct needs -m MF (direct-only sky coefficients)");
+    }
+    if opts.oi && (!opts.irradiance || channels.ncomp != 3) {
+        return usage("-oi needs -I and RGB channels (illuminance from irradiance)");
+    }
+    if let Some(t) = opts.target_se {
+        if t.is_nan() || t <= 0.0 {
+            return Err(Error::Usage(format!("--target-se {t}: expected > 0")));
+        }
+    }
+    if picture && opts.irradiance {
+        return usage("-I with view options: pictures are radiance (drop -I or the view)");
+    }
+    if !(opts.sun_angle > 0.0 && opts.sun_angle < 180.0) {
+        return usage("--sun-angle: expected degrees between 0 and 180");
+    }
+    Ok(())
+}
+
+fn check_sky(sky: &Sky, scene: &[String]) -> Result<()> {
+    if sky.is_empty() {
+        let what = if scene.is_empty() {
+            "no scene given".to_string()
+        } else {
+            format!("no sky in {}", scene.join(" "))
+        };
+        return Err(Error::Usage(format!(
+            "{what}: point-in-time values need glow or light sources (gensky + skyglow.rad); \
+             use -m MF for sky coefficients"
+        )));
+    }
+    Ok(())
+}
+
+/// What the tracer receives of the sampling settings.
+pub fn trace_params(s: &Sampling) -> TraceParams {
+    TraceParams {
+        ab: s.ab,
+        lw: s.lw,
+        lr: s.lr,
+        dj: s.dj,
+        st: s.st,
+        ss: s.ss,
+    }
+}
+
+/// Suns for `--suns`: a number = Reinhart patch centres (ground column empty), otherwise a
+/// weather file = one sun per time step (an empty column while the sun is down).
+pub fn sun_discs(spec: &str, angle: f64) -> Result<Vec<SunDisc>> {
+    let none = SunDisc {
+        dir: [0.0, 0.0, -1.0],
+        cos_half: 2.0, // contains no direction
+        solid_angle: 0.0,
+    };
+    if let Ok(mf) = spec.parse::<usize>() {
+        if mf == 0 || mf > MAX_MF {
+            return Err(Error::Usage(format!(
+                "--suns {mf}: expected a Reinhart subdivision from 1 to {MAX_MF}"
+            )));
+        }
+        let p = SkyPatches::new(mf);
+        return Ok((0..p.len())
+            .map(|i| {
+                if i == 0 {
+                    none
+                } else {
+                    SunDisc::new(p.centre(i), angle)
+                }
+            })
+            .collect());
+    }
+    let w = crate::formats::weather::Weather::read_path(spec)?;
+    let site = crate::sky::Site {
+        latitude: w.site.latitude_deg_n,
+        longitude_west: -w.site.longitude_deg_e,
+        meridian_west: -15.0 * w.site.time_zone_hours_e,
+    };
+    let mut leap = crate::sky::solar::LeapDayTracker::new();
+    Ok(w.steps
+        .iter()
+        .map(|s| {
+            let jd = leap.day_of_year(u32::from(s.month), u32::from(s.day));
+            let pos = crate::sky::SunPosition::at(&site, jd, s.hour);
+            if pos.altitude > 0.0 {
+                SunDisc::new(pos.direction(), angle)
+            } else {
+                none
+            }
+        })
+        .collect())
+}
+
+/// The sensor's query: `-I` moves the origin 1.1e-4 along the normal (rcontrib's
+/// `eval_irrad`); a zero direction (rtrace's flush) gives an empty record.
+fn sensor_query(ray: &Ray, irradiance: bool) -> Option<Query> {
+    if ray.is_flush() {
+        return None;
+    }
+    let dir = normalized(ray.dir);
+    let (org, quantity) = if irradiance {
+        let o = ray.org;
+        (
+            [
+                o[0] + IRRADIANCE_OFFSET * dir[0],
+                o[1] + IRRADIANCE_OFFSET * dir[1],
+                o[2] + IRRADIANCE_OFFSET * dir[2],
+            ],
+            Quantity::Irradiance,
+        )
+    } else {
+        (ray.org, Quantity::Radiance)
+    };
+    Some(Query { org, dir, quantity })
+}
+
+/// `-oi`: RGB irradiance to illuminance, 179 x (0.265, 0.670, 0.065) per column.
+fn to_output(values: &[f64], oi: bool) -> Vec<f64> {
+    if !oi {
+        return values.to_vec();
+    }
+    values
+        .chunks_exact(3)
+        .map(|c| {
+            WHITE_EFFICACY
+                * (RGB_PHOTOPIC_ROUNDED[0] * c[0]
+                    + RGB_PHOTOPIC_ROUNDED[1] * c[1]
+                    + RGB_PHOTOPIC_ROUNDED[2] * c[2])
+        })
+        .collect()
+}
+
+/// Progress on a terminal only.
+struct Progress {
+    show: bool,
+    total: Option<usize>,
+}
+
+impl Progress {
+    fn update(&self, done: usize) {
+        if self.show {
+            match self.total {
+                Some(t) => eprint!("\rrdc: {done} / {t} records"),
+                None => eprint!("\rrdc: {done} records"),
+            }
+        }
+    }
+    fn end(&self) {
+        if self.show {
+            eprintln!();
+        }
+    }
+}
+
+/// Sensor mode: rays from `reader`, one output row per ray.
+pub fn sensors<R: BufRead, W: Write>(
+    opts: &Options,
+    job: &Job,
+    mut reader: RayReader<R>,
+    command: &[String],
+    format: DataFormat,
+    channels: Channels,
+    (out, seekable): (W, bool),
+) -> Result<()> {
+    let irradiance = opts.irradiance;
+    let query = move |r: &Ray, _: &mut Rng| sensor_query(r, irradiance);
+    // Without -y the sensors are read first (their count goes in NROWS); with -y they
+    // stream and the count is checked at the end.
+    let mut pending: Vec<Ray> = Vec::new();
+    let nrows = match opts.y {
+        Some(y) => y,
+        None => {
+            for r in reader.by_ref() {
+                pending.push(r?);
+            }
+            pending.len()
+        }
+    };
+    let ncols = job.mode.ncols();
+    let header = output::header(command, None, &channels, Some(nrows), ncols, format);
+    // The --se-out file first: an unwritable path must fail before stdout gets a header.
+    let mut se_out = output::SeWriter::open(opts.se_out.as_deref(), command, nrows)?;
+    let mut sink = Sink::matrix(out, header, nrows, ncols, channels, format, opts, seekable)?;
+    let progress = Progress {
+        show: crate::cli::show_progress(),
+        total: Some(nrows),
+    };
+    let block_len = job.block_len();
+    let mut done = 0usize;
+    let mut pending = pending.into_iter();
+    loop {
+        let mut block = Vec::with_capacity(block_len);
+        if opts.y.is_some() {
+            for r in reader.by_ref().take(block_len) {
+                block.push(r?);
+            }
+        } else {
+            block.extend(pending.by_ref().take(block_len));
+        }
+        if block.is_empty() {
+            break;
+        }
+        if done + block.len() > nrows {
+            return Err(Error::parse(
+                Location::file("<stdin>"),
+                format!("more than the {nrows} sensors announced with -y"),
+            ));
+        }
+        let results = job.block(done as u64, &block, &query);
+        for r in &results {
+            sink.write_row(&to_output(&r.values, opts.oi))?;
+            se_out.write(r)?;
+        }
+        sink.flush()?;
+        done += block.len();
+        progress.update(done);
+    }
+    progress.end();
+    if done != nrows {
+        return Err(Error::parse(
+            Location::file("<stdin>"),
+            format!("{done} sensors read, -y announced {nrows}"),
+        ));
+    }
+    se_out.finish()?;
+    sink.finish()
+}
+
+/// Picture mode: one record per pixel, rows top to bottom; a picture under a sky, or with
+/// coefficient modes one matrix row per pixel.
+fn picture(
+    opts: &Options,
+    job: &Job,
+    view: View,
+    command: &[String],
+    format: DataFormat,
+    channels: Channels,
+    seekable: bool,
+) -> Result<()> {
+    let cam: Camera = view.setup()?;
+    let (xres, yres, _) = cam.normalize_resolution(
+        opts.x.unwrap_or(RPICT_RES),
+        opts.y.unwrap_or(RPICT_RES),
+        1.0,
+    );
+    if xres == 0 || yres == 0 {
+        return Err(Error::Usage(format!(
+            "picture size {xres} x {yres}: expected at least 1 x 1"
+        )));
+    }
+    let jitter = job.ad > 1;
+    let query = move |&(px, py): &(usize, usize), rng: &mut Rng| {
+        let (u, v) = if jitter {
+            (rng.random::<f64>(), rng.random::<f64>())
+        } else {
+            (0.5, 0.5)
+        };
+        let x = (px as f64 + u) / xres as f64;
+        let y = ((yres - 1 - py) as f64 + v) / yres as f64;
+        cam.view_ray(x, y).map(|r| Query {
+            org: r.org,
+            dir: r.dir,
+            quantity: Quantity::Radiance,
+        })
+    };
+    let nrec = xres * yres;
+    let ncols = job.mode.ncols();
+    let stdout = std::io::stdout();
+    let matrix = !matches!(job.mode, Mode::Values { .. });
+    let mut se_out = output::SeWriter::open(opts.se_out.as_deref(), command, nrec)?;
+    let mut sink = if matrix {
+        let header = output::header(
+            command,
+            Some(cam.view()),
+            &channels,
+            Some(nrec),
+            ncols,
+            format,
+        );
+        Sink::matrix(
+            stdout.lock(),
+            header,
+            nrec,
+            ncols,
+            channels,
+            format,
+            opts,
+            seekable,
+        )?
+    } else {
+        let header = output::header(command, Some(cam.view()), &channels, None, 0, format);
+        Sink::picture(stdout.lock(), header, xres, yres, channels)?
+    };
+    let progress = Progress {
+        show: crate::cli::show_progress(),
+        total: Some(nrec),
+    };
+    // Whole scanlines per block, so picture rows can be written as they complete.
+    let lines_per_block = (job.block_len() / xres).max(1);
+    let mut py = 0;
+    while py < yres {
+        let end = (py + lines_per_block).min(yres);
+        let pixels: Vec<(usize, usize)> = (py..end)
+            .flat_map(|y| (0..xres).map(move |x| (x, y)))
+            .collect();
+        let results = job.block((py * xres) as u64, &pixels, &query);
+        if matrix {
+            for r in &results {
+                sink.write_row(&r.values)?;
+            }
+        } else {
+            for line in results.chunks(xres) {
+                let vals: Vec<f64> = line.iter().flat_map(|r| r.values.clone()).collect();
+                sink.write_row(&vals)?;
+            }
+        }
+        for r in &results {
+            se_out.write(r)?;
+        }
+        sink.flush()?;
+        py = end;
+        progress.update(py * xres);
+    }
+    progress.end();
+    se_out.finish()?;
+    sink.finish()
+}

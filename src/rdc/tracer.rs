@@ -1,0 +1,476 @@
+//! # The seam between the driver and the tracer: [`Estimator`]
+//!
+//! The driver ([`super::run`]) owns everything around the light transport: reading records,
+//! seeding one random stream per record, batching samples, deciding when a record has
+//! converged (`--target-se`), binning and writing. An [`Estimator`] owns the light transport
+//! and nothing else: asked for ONE sample of one record ([`Query`]) in one [`Mode`], it adds
+//! that sample's contributions to a [`Tally`], column by column.
+//!
+//! ```text
+//! record value (column c, channel k) = (1/N) sum over samples s of  x_s[c][k]
+//! ```
+//!
+//! so an estimator only has to produce unbiased single-sample contributions `x_s`; the mean,
+//! its sample variance and the stopping rule are the driver's. This is the `-ad` sampling of
+//! `rcontrib -I+` (one hemisphere sample per ambient division) written as a plain Monte Carlo
+//! average: `-ad N` means N samples per record and batch.
+//!
+//! Statistics: besides the channel sums, a [`Tally`] keeps per column the sum of squares of
+//! each sample's scalar contribution `y_s[c] = sum_k w_k x_s[c][k]` (`w` = photopic weights
+//! for RGB, equal weights otherwise), so the standard error of every column is known:
+//! `SE[c]^2 = (sum y^2 - N mean^2) / (N (N - 1))`. A record's relative standard error is the
+//! RMS of its columns' SEs over the mean of its columns' values ([`Tally::relative_se`]); for
+//! a one-column record (a point-in-time value) that is the ordinary relative SE.
+//!
+//! The provisional implementation here is [`OpenSky`]: a scene with no surfaces at all, so
+//! every ray from a sensor leaves the scene at once (the analytic oracle of
+//! `radiance-fixtures/README.md`: each coefficient of an upward sensor is its patch's
+//! projected solid angle and the row sums to pi). The path tracer replaces it behind the
+//! same trait once `geometry` and `material` exist.
+
+use super::intake::Sky;
+use crate::sky::SkyPatches;
+use rand::Rng as _;
+use std::f64::consts::PI;
+
+/// The random number generator of one record: a PCG-64 stream derived from (seed, record).
+pub type Rng = rand_pcg::Pcg64;
+
+/// A record's generator, a pure function of the seed and the record's index so that the
+/// output does not depend on how records are spread over threads. The state is spread with
+/// SplitMix64 (Steele et al. 2014) because PCG streams that share a state are correlated.
+pub fn record_rng(seed: u64, index: u64) -> Rng {
+    let mix = |mut z: u64| {
+        z = z.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        z ^ (z >> 31)
+    };
+    let a = mix(seed ^ mix(index));
+    let b = mix(a ^ 0x5851_f42d_4c95_7f2d);
+    let state = (u128::from(a) << 64) | u128::from(b);
+    Rng::new(state, u128::from(index) << 1 | 1)
+}
+
+/// What a record measures at its ray.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Quantity {
+    /// Irradiance on a surface at the origin facing the direction (`-I`, rcontrib `-I+`).
+    Irradiance,
+    /// Radiance arriving along the ray (plain rtrace/rcontrib rays, picture pixels).
+    Radiance,
+}
+
+/// One record's ray: a sensor (origin, normal) or a view ray.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Query {
+    pub org: [f64; 3],
+    /// Unit direction (sensor normal, or view direction).
+    pub dir: [f64; 3],
+    pub quantity: Quantity,
+}
+
+/// One sun of a sun-coefficient run: a disc of unit radiance toward `dir`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SunDisc {
+    pub dir: [f64; 3],
+    /// Cosine of the disc's half angle.
+    pub cos_half: f64,
+    /// Solid angle `2 pi (1 - cos_half)`.
+    pub solid_angle: f64,
+}
+
+impl SunDisc {
+    /// A disc of full apex angle `angle_deg` (Radiance `source` convention) toward `dir`.
+    pub fn new(dir: [f64; 3], angle_deg: f64) -> SunDisc {
+        let cos_half = (angle_deg.to_radians() * 0.5).cos();
+        SunDisc {
+            dir: normalized(dir),
+            cos_half,
+            solid_angle: 2.0 * PI * (1.0 - cos_half),
+        }
+    }
+}
+
+/// What the columns of a record are.
+#[derive(Debug, Clone, Copy)]
+pub enum Mode<'a> {
+    /// Sky coefficients: column `i` is patch `i` of `patches` (0 = ground), each patch a
+    /// unit-radiance emitter (rcontrib `-V-` coefficients with `reinhart.cal`'s `rbin`).
+    /// `direct_only`: only light that reaches the sensor straight from the sky, no
+    /// inter-reflection (`C_dcd`, Radiance's `-ab 1` for a glow sky).
+    Sky {
+        patches: &'a SkyPatches,
+        direct_only: bool,
+    },
+    /// Sun coefficients: column `i` is the unit-radiance disc `suns[i]`, seen directly.
+    Suns { suns: &'a [SunDisc] },
+    /// Point-in-time values under `sky`: one column.
+    Values { sky: &'a Sky },
+}
+
+impl Mode<'_> {
+    /// Number of columns of every record.
+    pub fn ncols(&self) -> usize {
+        match self {
+            Mode::Sky { patches, .. } => patches.len(),
+            Mode::Suns { suns } => suns.len(),
+            Mode::Values { .. } => 1,
+        }
+    }
+}
+
+/// Tracing limits as the tracer sees them (Radiance's letters; see `options.rs` for which
+/// ones [`OpenSky`] honours).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TraceParams {
+    /// `-ab`: maximum number of diffuse bounces.
+    pub ab: u32,
+    /// `-lw`: minimum path weight before Russian roulette.
+    pub lw: f64,
+    /// `-lr`: maximum reflections (<= 0: Russian roulette only, with |lr| as a hard cap).
+    pub lr: i32,
+    /// `-dj`: source jitter.
+    pub dj: f64,
+    /// `-st`: specular sampling threshold.
+    pub st: f64,
+    /// `-ss`: specular sampling.
+    pub ss: f64,
+}
+
+/// The light transport behind the driver. `Sync`: one estimator serves every thread.
+pub trait Estimator: Sync {
+    /// Trace ONE sample of record `query` and add its contributions with [`Tally::add`]
+    /// (any number of calls, any columns, each `ncomp` values). The driver closes the sample
+    /// ([`Tally::end_sample`]) afterwards; adding nothing is a zero sample.
+    fn sample(&self, query: &Query, mode: &Mode, rng: &mut Rng, tally: &mut Tally);
+}
+
+/// Per-record accumulators: channel sums per column and, per column, the sum of squared
+/// per-sample scalar contributions (for the standard error).
+#[derive(Debug, Clone)]
+pub struct Tally {
+    ncols: usize,
+    ncomp: usize,
+    weights: Vec<f64>,
+    sum: Vec<f64>,
+    sumsq: Vec<f64>,
+    /// Scalar contribution of the open sample to each column, and the columns it touched.
+    open: Vec<f64>,
+    touched: Vec<usize>,
+    samples: u64,
+}
+
+impl Tally {
+    /// Accumulators for `ncols` columns of `ncomp` channels; `weights` (length `ncomp`) turn a
+    /// contribution into the scalar whose variance is tracked.
+    pub fn new(ncols: usize, ncomp: usize, weights: &[f64]) -> Tally {
+        Tally {
+            ncols,
+            ncomp,
+            weights: weights.to_vec(),
+            sum: vec![0.0; ncols * ncomp],
+            sumsq: vec![0.0; ncols],
+            open: vec![0.0; ncols],
+            touched: Vec::new(),
+            samples: 0,
+        }
+    }
+
+    /// Forget everything (next record).
+    pub fn clear(&mut self) {
+        self.sum.iter_mut().for_each(|v| *v = 0.0);
+        self.sumsq.iter_mut().for_each(|v| *v = 0.0);
+        for &c in &self.touched {
+            self.open[c] = 0.0;
+        }
+        self.touched.clear();
+        self.samples = 0;
+    }
+
+    pub fn ncols(&self) -> usize {
+        self.ncols
+    }
+
+    pub fn ncomp(&self) -> usize {
+        self.ncomp
+    }
+
+    /// Add a contribution of the open sample to column `col` (`value.len() == ncomp`; a
+    /// column out of range is ignored, as rcontrib ignores bins `>= -bn`).
+    pub fn add(&mut self, col: usize, value: &[f64]) {
+        if col >= self.ncols {
+            return;
+        }
+        let base = col * self.ncomp;
+        let mut y = 0.0;
+        for (k, (&v, &w)) in value.iter().zip(&self.weights).enumerate() {
+            self.sum[base + k] += v;
+            y += w * v;
+        }
+        if self.open[col] == 0.0 && !self.touched.contains(&col) {
+            self.touched.push(col);
+        }
+        self.open[col] += y;
+    }
+
+    /// Add the same contribution `value` to every channel of column `col`.
+    pub fn add_grey(&mut self, col: usize, value: f64) {
+        if col >= self.ncols {
+            return;
+        }
+        let base = col * self.ncomp;
+        for k in 0..self.ncomp {
+            self.sum[base + k] += value;
+        }
+        let y = value * self.weights.iter().sum::<f64>();
+        if self.open[col] == 0.0 && !self.touched.contains(&col) {
+            self.touched.push(col);
+        }
+        self.open[col] += y;
+    }
+
+    /// Close the open sample.
+    pub fn end_sample(&mut self) {
+        for &c in &self.touched {
+            self.sumsq[c] += self.open[c] * self.open[c];
+            self.open[c] = 0.0;
+        }
+        self.touched.clear();
+        self.samples += 1;
+    }
+
+    /// Samples closed so far.
+    pub fn samples(&self) -> u64 {
+        self.samples
+    }
+
+    /// The record's values: channel means per column, into `out` (`ncols * ncomp`).
+    pub fn mean_into(&self, out: &mut [f64]) {
+        let n = self.samples.max(1) as f64;
+        for (o, s) in out.iter_mut().zip(&self.sum) {
+            *o = s / n;
+        }
+    }
+
+    /// Standard error of column `c`'s scalar mean (0 with fewer than 2 samples).
+    pub fn column_se(&self, c: usize) -> f64 {
+        if self.samples < 2 || c >= self.ncols {
+            return 0.0;
+        }
+        let n = self.samples as f64;
+        let mean = self.column_scalar_mean(c);
+        ((self.sumsq[c] - n * mean * mean).max(0.0) / (n * (n - 1.0))).sqrt()
+    }
+
+    fn column_scalar_mean(&self, c: usize) -> f64 {
+        let n = self.samples.max(1) as f64;
+        let base = c * self.ncomp;
+        self.sum[base..base + self.ncomp]
+            .iter()
+            .zip(&self.weights)
+            .map(|(s, w)| s * w)
+            .sum::<f64>()
+            / n
+    }
+
+    /// Relative standard error of the record: RMS of the column SEs over the mean column
+    /// value. 0 for a record that is zero everywhere (nothing to refine), infinite with
+    /// fewer than 2 samples.
+    pub fn relative_se(&self) -> f64 {
+        if self.samples < 2 {
+            return f64::INFINITY;
+        }
+        let nc = self.ncols.max(1) as f64;
+        let mean = (0..self.ncols)
+            .map(|c| self.column_scalar_mean(c))
+            .sum::<f64>()
+            / nc;
+        let ms = (0..self.ncols)
+            .map(|c| self.column_se(c).powi(2))
+            .sum::<f64>()
+            / nc;
+        if mean.abs() <= f64::MIN_POSITIVE {
+            0.0
+        } else {
+            ms.sqrt() / mean.abs()
+        }
+    }
+}
+
+/// The reference estimator for scenes without surfaces: every ray leaves the scene at once.
+///
+/// | mode | irradiance query (`-I`) | radiance query |
+/// |---|---|---|
+/// | sky coefficients | cosine-weighted direction `d` about the normal, `pi` into `bin_of(d)` | 1 into `bin_of(dir)` |
+/// | sun coefficients | `cos(theta_i) * omega_i` into each sun `i` above the surface (deterministic) | 1 into the sun whose disc holds `dir` |
+/// | values | `pi L_sky(d)` for a cosine-weighted `d`, plus `L_sun omega cos` per sun | `L(dir)`, suns included |
+///
+/// `-ab 0` makes glow skies invisible to irradiance queries (Radiance: a glow on a `source`
+/// is never a direct source and an `-I` sensor only sees it through an ambient bounce,
+/// radiance-notes.md 12.8); sky coefficients are then all zero, as rcontrib's. Suns (`light`
+/// sources) are direct sources and do not need a bounce. Ambient samples that land inside a
+/// sun's disc add nothing: that light was counted directly (Radiance discards such rays,
+/// notes 5.3). No other parameter matters without surfaces.
+///
+/// Sampling is plain (not stratified) so that the standard errors the [`Tally`] reports are
+/// unbiased; Radiance stratifies its `-ad` samples and is less noisy per sample.
+#[derive(Debug, Clone)]
+pub struct OpenSky {
+    params: TraceParams,
+    ncomp: usize,
+}
+
+impl OpenSky {
+    pub fn new(params: TraceParams, ncomp: usize) -> OpenSky {
+        OpenSky { params, ncomp }
+    }
+}
+
+impl Estimator for OpenSky {
+    fn sample(&self, q: &Query, mode: &Mode, rng: &mut Rng, tally: &mut Tally) {
+        match (q.quantity, mode) {
+            (Quantity::Irradiance, Mode::Sky { patches, .. }) => {
+                if self.params.ab == 0 {
+                    return;
+                }
+                let d = cosine_direction(q.dir, rng);
+                tally.add_grey(patches.bin_of(d), PI);
+            }
+            (Quantity::Radiance, Mode::Sky { patches, .. }) => {
+                tally.add_grey(patches.bin_of(q.dir), 1.0);
+            }
+            (Quantity::Irradiance, Mode::Suns { suns }) => {
+                for (i, s) in suns.iter().enumerate() {
+                    let c = dot(q.dir, s.dir);
+                    if c > 0.0 {
+                        tally.add_grey(i, c * s.solid_angle);
+                    }
+                }
+            }
+            (Quantity::Radiance, Mode::Suns { suns }) => {
+                if let Some(i) = suns.iter().position(|s| dot(q.dir, s.dir) >= s.cos_half) {
+                    tally.add_grey(i, 1.0);
+                }
+            }
+            (Quantity::Irradiance, Mode::Values { sky }) => {
+                let mut v = vec![0.0; self.ncomp];
+                if self.params.ab > 0 {
+                    let d = cosine_direction(q.dir, rng);
+                    let l = sky.radiance(d, true);
+                    sky.to_channels(l, PI, &mut v);
+                }
+                for sun in &sky.suns {
+                    let c = dot(q.dir, sun.dir);
+                    if c > 0.0 {
+                        let mut s = vec![0.0; self.ncomp];
+                        sky.to_channels(sun.color, c * sun.solid_angle, &mut s);
+                        v.iter_mut().zip(&s).for_each(|(a, b)| *a += b);
+                    }
+                }
+                tally.add(0, &v);
+            }
+            (Quantity::Radiance, Mode::Values { sky }) => {
+                let mut v = vec![0.0; self.ncomp];
+                sky.to_channels(sky.radiance(q.dir, false), 1.0, &mut v);
+                tally.add(0, &v);
+            }
+        }
+    }
+}
+
+/// A direction about unit `n` with density `cos(theta) / pi` (Malley's method: a uniform
+/// point on the unit disc lifted to the hemisphere).
+pub fn cosine_direction(n: [f64; 3], rng: &mut Rng) -> [f64; 3] {
+    let u: f64 = rng.random();
+    let v: f64 = rng.random();
+    let r = u.sqrt();
+    let phi = 2.0 * PI * v;
+    let (x, y) = (r * phi.cos(), r * phi.sin());
+    let z = (1.0 - u).max(0.0).sqrt();
+    let (t, b) = basis(n);
+    normalized([
+        t[0] * x + b[0] * y + n[0] * z,
+        t[1] * x + b[1] * y + n[1] * z,
+        t[2] * x + b[2] * y + n[2] * z,
+    ])
+}
+
+/// Two unit vectors completing unit `n` to an orthonormal basis (Duff et al. 2017,
+/// "Building an Orthonormal Basis, Revisited").
+pub fn basis(n: [f64; 3]) -> ([f64; 3], [f64; 3]) {
+    let s = if n[2] >= 0.0 { 1.0 } else { -1.0 };
+    let a = -1.0 / (s + n[2]);
+    let b = n[0] * n[1] * a;
+    (
+        [1.0 + s * n[0] * n[0] * a, s * b, -s * n[0]],
+        [b, s + n[1] * n[1] * a, -n[1]],
+    )
+}
+
+pub fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+/// `v / |v|`, or `v` itself when it is zero.
+pub fn normalized(v: [f64; 3]) -> [f64; 3] {
+    let l = dot(v, v).sqrt();
+    if l > 0.0 {
+        [v[0] / l, v[1] / l, v[2] / l]
+    } else {
+        v
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn cosine_directions_are_unit_and_above_the_surface() {
+        let mut rng = record_rng(1, 2);
+        let n = normalized([0.3, -0.5, 0.8]);
+        let mut mean_cos = 0.0;
+        let k = 20000;
+        for _ in 0..k {
+            let d = cosine_direction(n, &mut rng);
+            assert!((dot(d, d) - 1.0).abs() < 1e-12);
+            assert!(dot(d, n) >= -1e-12);
+            mean_cos += dot(d, n);
+        }
+        // E[cos] under cos/pi density = 2/3; sd of cos is sqrt(1/2 - 4/9) = 0.236.
+        mean_cos /= k as f64;
+        assert!((mean_cos - 2.0 / 3.0).abs() < 5.0 * 0.236 / (k as f64).sqrt());
+    }
+
+    #[test]
+    fn streams_depend_only_on_seed_and_index() {
+        let a: f64 = record_rng(7, 3).random();
+        let b: f64 = record_rng(7, 3).random();
+        let c: f64 = record_rng(7, 4).random();
+        let d: f64 = record_rng(8, 3).random();
+        assert_eq!(a, b);
+        assert_ne!(a, c);
+        assert_ne!(a, d);
+    }
+
+    #[test]
+    fn tally_standard_error_matches_the_textbook_formula() {
+        let mut t = Tally::new(2, 1, &[1.0]);
+        let xs = [1.0, 2.0, 4.0, 7.0];
+        for &x in &xs {
+            t.add(0, &[x]);
+            t.add(0, &[x]); // two adds in one sample count as one sample of 2x
+            t.end_sample();
+        }
+        let n = xs.len() as f64;
+        let ys: Vec<f64> = xs.iter().map(|x| 2.0 * x).collect();
+        let m = ys.iter().sum::<f64>() / n;
+        let var = ys.iter().map(|y| (y - m).powi(2)).sum::<f64>() / (n - 1.0);
+        assert!((t.column_se(0) - (var / n).sqrt()).abs() < 1e-12);
+        assert_eq!(t.column_se(1), 0.0);
+        let mut out = [0.0; 2];
+        t.mean_into(&mut out);
+        assert_eq!(out, [m, 0.0]);
+    }
+}
