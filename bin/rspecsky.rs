@@ -136,6 +136,10 @@ fn main() {
 fn colours(m: &clap::ArgMatches, cli: &Cli, mut c: Colours) -> Colours {
     let mut events: Vec<(usize, &str)> = Vec::new();
     for id in ["sun_only", "sky_only", "ground", "colour"] {
+        // Flags have default values (with indices): only count what the user typed.
+        if m.value_source(id) != Some(clap::parser::ValueSource::CommandLine) {
+            continue;
+        }
         if let Some(ix) = m.indices_of(id) {
             if let Some(first) = ix.into_iter().next() {
                 events.push((first, id));
@@ -296,7 +300,9 @@ fn point_sky(m: &clap::ArgMatches, cli: &Cli) -> Result<(), Error> {
             )));
         }
     };
-    if !(1.0..=12.0).contains(&month) || !(1.0..=31.0).contains(&day) || !(0.0..=24.0).contains(&hour)
+    if !(1.0..=12.0).contains(&month)
+        || !(1.0..=31.0).contains(&day)
+        || !(0.0..=24.0).contains(&hour)
     {
         return Err(Error::Usage(format!(
             "--at \"{at}\": month 1..12, day 1..31 and hour 0..24 expected"
@@ -342,7 +348,9 @@ fn point_sky(m: &clap::ArgMatches, cli: &Cli) -> Result<(), Error> {
             }
             let w = Weather::read_path(path)?;
             let Some(s) = w.steps.iter().find(|s| {
-                u32::from(s.month) == month && u32::from(s.day) == day && (s.hour - hour).abs() < 1e-6
+                u32::from(s.month) == month
+                    && u32::from(s.day) == day
+                    && (s.hour - hour).abs() < 1e-6
             }) else {
                 return Err(Error::Usage(format!(
                     "{path}: no record at month {month} day {day} hour {hour}"
@@ -374,7 +382,10 @@ fn point_sky(m: &clap::ArgMatches, cli: &Cli) -> Result<(), Error> {
                 meridian_west: mer,
             };
             let (direct, diffuse) = (wv[0], wv[1]);
-            (site, GendaylitInput::DirectNormalIrradiance { direct, diffuse })
+            (
+                site,
+                GendaylitInput::DirectNormalIrradiance { direct, diffuse },
+            )
         }
     };
     let c = colours(

@@ -221,7 +221,9 @@ pub fn sky_matrix(
     let nrows = patches.len();
     let keep_sky = opts.colours.sky.iter().any(|&c| c != 0.0);
     let mut rows: Vec<Vec<f32>> = if keep_sky {
-        (0..nrows).map(|_| Vec::with_capacity(steps.len())).collect()
+        (0..nrows)
+            .map(|_| Vec::with_capacity(steps.len()))
+            .collect()
     } else {
         Vec::new()
     };

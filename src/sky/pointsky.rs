@@ -83,7 +83,10 @@ pub fn point_sky_text(
             a[7], a[8], a[9]
         );
     }
-    let _ = write!(s, "\nvoid brightfunc skyfunc\n2 skybright perezlum.cal\n0\n10");
+    let _ = write!(
+        s,
+        "\nvoid brightfunc skyfunc\n2 skybright perezlum.cal\n0\n10"
+    );
     for v in a {
         let _ = write!(s, " {v:e}");
     }
@@ -133,7 +136,10 @@ mod tests {
         let t = point_sky_text(&["x".into()], &pos, &sky, &colours);
         assert!(t.starts_with("# x\n"));
         let line = t.lines().find(|l| l.starts_with("10 ")).unwrap();
-        let v: Vec<f64> = line.split_whitespace().map(|w| w.parse().unwrap()).collect();
+        let v: Vec<f64> = line
+            .split_whitespace()
+            .map(|w| w.parse().unwrap())
+            .collect();
         assert_eq!(&v[1..], &sky.args[..]);
         assert!(t.contains("\nsolar source sun\n"));
         assert!(t.contains("skyglow source sky\n0\n0\n4 0 0 1 180"));
