@@ -107,7 +107,9 @@ struct Cli {
     interval: Option<f64>,
 
     /// Point-in-time sky for "month day hour" (local standard time, as gendaylit's
-    /// `month day hour`; with a weather file, a record's own hour, e.g. 12.5).
+    /// `month day hour`; with a weather file, a record's own hour, e.g. 12.5). The sky is
+    /// gendaylit's model with its defaults (dew point 10.97 C, i.e. 2 cm precipitable
+    /// water, also for EPW records); -s drops the sun, -d blackens sky and ground glows.
     #[arg(long = "at", value_name = "\"M D H\"")]
     at: Option<String>,
 

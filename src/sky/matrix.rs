@@ -353,6 +353,28 @@ mod tests {
     }
 
     #[test]
+    fn weather_steps_follow_gendaymtx_conventions() {
+        let wea = "place A_B\nlatitude 51.15\nlongitude 0.18\ntime_zone 0\n\
+                   site_elevation 0\nweather_data_file_units 2\n\
+                   2 28 12.5 100 50\n2 29 12.5 100 50\n3 1 12.5 100 50\n";
+        let w = Weather::parse(wea, "t.wea").unwrap();
+        let st = time_steps(&w);
+        assert_eq!(
+            st.iter().map(|s| s.jd).collect::<Vec<_>>(),
+            vec![59, 60, 61],
+            "Feb 29 is day 60 and shifts later days"
+        );
+        assert!(st.iter().all(|s| s.dew_point == DEFAULT_DEW_POINT));
+        assert!(
+            st.iter()
+                .all(|s| s.units == InputUnits::DirectHorizontalIrradiance)
+        );
+        let site = radiance_site(&w);
+        assert_eq!((site.longitude_west, site.meridian_west), (0.18, 0.0));
+        assert_eq!(latlong(&w), "51.15000000 -0.18000000");
+    }
+
+    #[test]
     fn skip_night_keeps_daytime_steps_only() {
         let p = SkyPatches::new(1);
         let opts = MatrixOptions {
