@@ -8,13 +8,15 @@ use rdaylight::Error;
 use rdaylight::formats::header::Header;
 use rdaylight::formats::matrix::writer::{DOUBLE_DIGITS, FLOAT_DIGITS};
 use rdaylight::formats::matrix::{DataFormat, MatrixWriter, WriteOptions};
-use rdaylight::formats::weather::{WeaUnits, Weather};
+use rdaylight::formats::weather::Weather;
 use rdaylight::radiometry::Channels;
 use rdaylight::sky::gendaylit::{GendaylitInput, GendaylitOptions, GendaylitOutput, GendaylitSky};
 use rdaylight::sky::matrix::{
     Colours, MatrixOptions, average_column, latlong, radiance_site, sky_matrix, time_steps,
 };
-use rdaylight::sky::pointsky::{PointSkyColours, point_sky_text, split_ground_reflectance};
+use rdaylight::sky::pointsky::{
+    PointSkyColours, point_sky_text, record_input, split_ground_reflectance,
+};
 use rdaylight::sky::{PerezOptions, SkyPatches, solar};
 use std::io::Write;
 
@@ -349,26 +351,10 @@ fn point_sky(m: &clap::ArgMatches, cli: &Cli) -> Result<(), Error> {
                 ));
             }
             let w = Weather::read_path(path)?;
-            let Some(s) = w.steps.iter().find(|s| {
-                u32::from(s.month) == month
-                    && u32::from(s.day) == day
-                    && (s.hour - hour).abs() < 1e-6
-            }) else {
+            let Some(input) = record_input(&w, month, day, hour) else {
                 return Err(Error::Usage(format!(
                     "{path}: no record at month {month} day {day} hour {hour}"
                 )));
-            };
-            let (direct, diffuse) = (s.direct, s.diffuse);
-            let input = match w.units {
-                WeaUnits::NormalIrradiance => {
-                    GendaylitInput::DirectNormalIrradiance { direct, diffuse }
-                }
-                WeaUnits::HorizontalIrradiance => {
-                    GendaylitInput::DirectHorizontalIrradiance { direct, diffuse }
-                }
-                WeaUnits::NormalIlluminance => {
-                    GendaylitInput::DirectNormalIlluminance { direct, diffuse }
-                }
             };
             (radiance_site(&w), input)
         }

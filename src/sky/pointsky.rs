@@ -25,8 +25,9 @@
 //! `r g b` is split into its mean `m` (used for A2, so the blend is gendaylit's for a grey
 //! ground of the same mean) and the colour `r/m g/m b/m` of the ground glow.
 
-use super::gendaylit::GendaylitSky;
+use super::gendaylit::{GendaylitInput, GendaylitSky};
 use super::solar::SunPosition;
+use crate::formats::weather::{WeaUnits, Weather};
 use std::fmt::Write;
 
 /// Colours of a point-in-time sky description.
@@ -46,6 +47,23 @@ pub fn split_ground_reflectance(rgb: [f64; 3]) -> (f64, [f64; 3]) {
     } else {
         (0.0, [0.0; 3])
     }
+}
+
+/// gendaylit's input for the weather record at `month day hour` (the record's own decimal
+/// hour, e.g. 12.5; EPW hours as [`crate::formats::weather`] maps them), in the file's units
+/// (`.wea` units 1, 2, 3 are gendaylit's `-W`, `-G`, `-L`). `None` if there is no such record.
+pub fn record_input(w: &Weather, month: u32, day: u32, hour: f64) -> Option<GendaylitInput> {
+    let s = w.steps.iter().find(|s| {
+        u32::from(s.month) == month && u32::from(s.day) == day && (s.hour - hour).abs() < 1e-6
+    })?;
+    let (direct, diffuse) = (s.direct, s.diffuse);
+    Some(match w.units {
+        WeaUnits::NormalIrradiance => GendaylitInput::DirectNormalIrradiance { direct, diffuse },
+        WeaUnits::HorizontalIrradiance => {
+            GendaylitInput::DirectHorizontalIrradiance { direct, diffuse }
+        }
+        WeaUnits::NormalIlluminance => GendaylitInput::DirectNormalIlluminance { direct, diffuse },
+    })
 }
 
 /// The scene text for a sky. `comments` become `# ` lines at the top (command line, sun
@@ -103,9 +121,25 @@ pub fn point_sky_text(
 
 #[cfg(test)]
 mod tests {
-    use super::super::gendaylit::{GendaylitInput, GendaylitOptions};
+    use super::super::gendaylit::GendaylitOptions;
     use super::super::solar::Site;
     use super::*;
+
+    #[test]
+    fn records_are_found_by_date_and_hour_in_their_units() {
+        let wea = "place A_B\nlatitude 51.15\nlongitude 0.18\ntime_zone 0\n\
+                   site_elevation 0\nweather_data_file_units 3\n3 2 12.5 80000 9000\n";
+        let w = Weather::parse(wea, "t.wea").unwrap();
+        assert_eq!(
+            record_input(&w, 3, 2, 12.5),
+            Some(GendaylitInput::DirectNormalIlluminance {
+                direct: 80000.0,
+                diffuse: 9000.0
+            })
+        );
+        assert_eq!(record_input(&w, 3, 2, 12.0), None);
+        assert_eq!(record_input(&w, 3, 3, 12.5), None);
+    }
 
     #[test]
     fn ground_split_keeps_the_reflectance() {
