@@ -1,6 +1,433 @@
-//! (being written)
+//! `rspecsky`: Perez all-weather sky matrices from a weather file (the `gendaymtx`
+//! counterpart) and point-in-time Perez skies as scene text (the `gendaylit` counterpart).
+//! The models are in `rdaylight::sky::{matrix, pointsky}`; this file parses options, reads
+//! the weather, writes the output and reports.
+
+use clap::{CommandFactory, FromArgMatches, Parser};
+use rdaylight::Error;
+use rdaylight::formats::header::Header;
+use rdaylight::formats::matrix::writer::{DOUBLE_DIGITS, FLOAT_DIGITS};
+use rdaylight::formats::matrix::{DataFormat, MatrixWriter, WriteOptions};
+use rdaylight::formats::weather::Weather;
+use rdaylight::radiometry::Channels;
+use rdaylight::sky::gendaylit::{GendaylitInput, GendaylitOptions, GendaylitOutput, GendaylitSky};
+use rdaylight::sky::matrix::{
+    Colours, MatrixOptions, average_column, latlong, radiance_site, sky_matrix, time_steps,
+};
+use rdaylight::sky::pointsky::{
+    PointSkyColours, point_sky_text, record_input, split_ground_reflectance,
+};
+use rdaylight::sky::{PerezOptions, SkyPatches, solar};
+use std::io::Write;
+
+const EXAMPLES: &str = "\
+Examples:
+  Annual sky matrix at MF 4 (like gendaymtx -m 4 -of), then illuminance with a DC matrix:
+    rspecsky -m 4 -of london.epw > sky.smx
+    rmtx dc.mtx sky.smx -c 47.4 119.9 11.6 -fa > ill.txt
+  Sun-only and sky-only matrices for a 5-phase calculation:
+    rspecsky -5 0.533 -d -m 6 -of site.wea > suns.smx
+    rspecsky -s -m 1 -of site.wea > skies.smx
+  A gendaylit-style sky for 2 March 12:30, from the weather file or given irradiances:
+    rspecsky --at \"3 2 12.5\" london.epw > sky.rad
+    rspecsky --at \"3 2 12.5\" -W 838 79 -a 51.15 -o 0.18 -m 0 > sky.rad
+    oconv sky.rad room.rad > room.oct";
+
+/// Perez all-weather sky matrices (gendaymtx) and point-in-time skies (gendaylit).
+///
+/// Matrix mode: `rspecsky [options] weather.wea|weather.epw > sky.smx`. Rows are the ground
+/// (row 0) and the Tregenza/Reinhart patches in gendaymtx's order, columns the time steps,
+/// NCOMP=3 radiances (W/sr/m2). The weather file is recognised by content (.wea or EPW);
+/// with an EPW, the site comes from its LOCATION line and the dew point is the 3-hour
+/// running mean gendaymtx uses. -d, -s, -g and -c apply in command-line order, as in
+/// gendaymtx (-d then -g keeps the given ground).
+///
+/// Point-in-time mode: `rspecsky --at "month day hour" [weather | -W dni dhi -a lat -o lon
+/// -m meridian] > sky.rad` writes gendaylit's description (sun, perezlum.cal sky) plus the
+/// sky and ground glow sources, ready for oconv/rtrace. Here -m, -o and -a are gendaylit's
+/// meridian, longitude and latitude (degrees, west positive).
+#[derive(Parser, Debug)]
+#[command(name = "rspecsky", disable_help_flag = true, after_help = EXAMPLES)]
+struct Cli {
+    /// Reinhart multiplication factor MF (gendaymtx -m; default 1 = Tregenza's 145 patches
+    /// + ground). With --at: standard meridian in degrees west (gendaylit -m).
+    #[arg(short = 'm', value_name = "MF", allow_negative_numbers = true)]
+    m: Option<String>,
+
+    /// Output unit (gendaymtx/gendaylit -O): 0 visible radiance (default), 1 solar radiance.
+    #[arg(short = 'O', value_name = "0|1")]
+    output: Option<u8>,
+
+    /// Sun only: zero sky and ground (gendaymtx -d).
+    #[arg(short = 'd')]
+    sun_only: bool,
+
+    /// Sky only: no sun (gendaymtx -s; gendaylit -s).
+    #[arg(short = 's')]
+    sky_only: bool,
+
+    /// Five-phase sun: each sun in one patch, with the solid angle of a disc of this
+    /// diameter in degrees (gendaymtx -5, usually 0.533).
+    #[arg(short = '5', value_name = "DEG")]
+    five: Option<f64>,
+
+    /// Ground reflectance r g b (gendaymtx -g; default 0.2 0.2 0.2; gendaylit -g takes the
+    /// mean, the colour goes to the ground glow).
+    #[arg(short = 'g', num_args = 3, value_names = ["R", "G", "B"])]
+    ground: Option<Vec<f64>>,
+
+    /// Sky colour r g b (gendaymtx -c; default .960 1.004 1.118; with --at the sky glow
+    /// colour, default 1 1 1).
+    #[arg(short = 'c', num_args = 3, value_names = ["R", "G", "B"])]
+    colour: Option<Vec<f64>>,
+
+    /// Rotate the sky counter-clockwise about the zenith by DEG degrees (gendaymtx -r).
+    #[arg(short = 'r', value_name = "DEG", allow_negative_numbers = true)]
+    rotation: Option<f64>,
+
+    /// Output format: -oa ascii (default, full precision, not gendaymtx's 3 digits), -of
+    /// float, -od double (gendaymtx -of/-od). With --at: longitude in degrees west
+    /// (gendaylit -o).
+    #[arg(short = 'o', value_name = "a|f|d", allow_negative_numbers = true)]
+    o: Option<String>,
+
+    /// Write no header (gendaymtx -h).
+    #[arg(short = 'h')]
+    no_header: bool,
+
+    /// Leave out time steps with the sun below the horizon (gendaymtx -u).
+    #[arg(short = 'u')]
+    skip_night: bool,
+
+    /// One column, the average of all (kept) time steps, with NAVERAGED= (gendaymtx -A).
+    #[arg(short = 'A')]
+    average: bool,
+
+    /// Sunrise/sunset interval correction for data averaged over MIN minutes
+    /// (gendaymtx -i).
+    #[arg(short = 'i', value_name = "MIN")]
+    interval: Option<f64>,
+
+    /// Point-in-time sky for "month day hour" (local standard time, as gendaylit's
+    /// `month day hour`; with a weather file, a record's own hour, e.g. 12.5). The sky is
+    /// gendaylit's model with its defaults (dew point 10.97 C, i.e. 2 cm precipitable
+    /// water, also for EPW records); -s drops the sun, -d blackens sky and ground glows.
+    #[arg(long = "at", value_name = "\"M D H\"")]
+    at: Option<String>,
+
+    /// With --at: direct normal and diffuse horizontal irradiance, W/m2 (gendaylit -W).
+    #[arg(short = 'W', num_args = 2, value_names = ["DNI", "DHI"])]
+    irradiance: Option<Vec<f64>>,
+
+    /// With --at -W: latitude in degrees north (gendaylit -a).
+    #[arg(short = 'a', value_name = "LAT", allow_negative_numbers = true)]
+    latitude: Option<f64>,
+
+    /// Print help.
+    #[arg(long = "help", action = clap::ArgAction::Help)]
+    help: Option<bool>,
+
+    /// Weather file (.wea or .epw, recognised by content).
+    #[arg(value_name = "WEATHER")]
+    weather: Option<String>,
+}
+
 fn main() {
-    rdaylight::cli::run("rspecsky", || {
-        Err(rdaylight::Error::Usage("not implemented yet".into()))
-    })
+    rdaylight::cli::run("rspecsky", real_main)
+}
+
+/// Apply -d, -s, -g, -c in command-line order, as gendaymtx's option loop does.
+fn colours(m: &clap::ArgMatches, cli: &Cli, mut c: Colours) -> Colours {
+    let mut events: Vec<(usize, &str)> = Vec::new();
+    for id in ["sun_only", "sky_only", "ground", "colour"] {
+        // Flags have default values (with indices): only count what the user typed.
+        if m.value_source(id) != Some(clap::parser::ValueSource::CommandLine) {
+            continue;
+        }
+        if let Some(ix) = m.indices_of(id) {
+            if let Some(first) = ix.into_iter().next() {
+                events.push((first, id));
+            }
+        }
+    }
+    events.sort();
+    for (_, id) in events {
+        match id {
+            "sun_only" => {
+                c.sky = vec![0.0; 3];
+                c.ground = vec![0.0; 3];
+            }
+            "sky_only" => c.sun = vec![0.0; 3],
+            "ground" => c.ground = cli.ground.clone().unwrap_or_default(),
+            _ => c.sky = cli.colour.clone().unwrap_or_default(),
+        }
+    }
+    c
+}
+
+fn real_main() -> Result<(), Error> {
+    let m = Cli::command().get_matches();
+    let cli = Cli::from_arg_matches(&m).unwrap_or_else(|e| e.exit());
+    if let Some(out) = cli.output {
+        if out > 1 {
+            return Err(Error::Usage(format!(
+                "-O{out}: expected -O0 (visible) or -O1 (solar)"
+            )));
+        }
+    }
+    if cli.at.is_some() {
+        return point_sky(&m, &cli);
+    }
+    for (set, what) in [
+        (cli.irradiance.is_some(), "-W"),
+        (cli.latitude.is_some(), "-a"),
+    ] {
+        if set {
+            return Err(Error::Usage(format!("{what} is only used with --at")));
+        }
+    }
+    let mf = match cli.m.as_deref() {
+        None => 1,
+        Some(s) => match s.parse::<usize>() {
+            Ok(n) if (1..=100).contains(&n) => n,
+            _ => {
+                return Err(Error::Usage(format!(
+                    "-m {s}: expected a multiplication factor from 1 to 100"
+                )));
+            }
+        },
+    };
+    let format = match cli.o.as_deref() {
+        None | Some("a") => DataFormat::Ascii,
+        Some("f") => DataFormat::Float,
+        Some("d") => DataFormat::Double,
+        Some(o) => return Err(Error::Usage(format!("-o{o}: expected -oa, -of or -od"))),
+    };
+    if let Some(d) = cli.five {
+        if !(d > 0.0 && d < 180.0) {
+            return Err(Error::Usage(format!(
+                "-5 {d}: expected a sun diameter in degrees (e.g. 0.533)"
+            )));
+        }
+    }
+    let Some(path) = cli.weather.as_deref() else {
+        return Err(Error::Usage(
+            "expected a weather file (.wea or .epw); see --help".into(),
+        ));
+    };
+    let weather = Weather::read_path(path)?;
+    let site = radiance_site(&weather);
+    let steps = time_steps(&weather);
+    let opts = MatrixOptions {
+        perez: PerezOptions {
+            rotation_deg: cli.rotation.unwrap_or(0.0),
+            five_phase_sun_deg: cli.five,
+            solar_radiance: cli.output == Some(1),
+            interval_minutes: cli.interval.unwrap_or(0.0),
+        },
+        colours: colours(&m, &cli, Colours::gendaymtx()),
+        skip_night: cli.skip_night,
+    };
+    let patches = SkyPatches::new(mf);
+    let show = rdaylight::cli::show_progress();
+    let progress = move |done: usize, total: usize| {
+        if show {
+            eprint!("\rrspecsky: {done}/{total} time steps");
+            if done == total {
+                eprintln!();
+            }
+        }
+    };
+
+    let mut header = Header::new();
+    header.push_command(std::env::args());
+    header.set("LATLONG", format!(" {}", latlong(&weather)));
+    let mut wopts = WriteOptions::new(format);
+    wopts.header = !cli.no_header;
+    wopts.seekable = stdout_is_file();
+    wopts.ascii_digits = if format == DataFormat::Double {
+        DOUBLE_DIGITS
+    } else {
+        FLOAT_DIGITS
+    };
+    let out = std::io::BufWriter::with_capacity(1 << 16, std::io::stdout().lock());
+    if cli.average {
+        let (col, n) = average_column(&patches, &steps, &site, &opts, &progress);
+        header.set("NAVERAGED", n);
+        let mut w = MatrixWriter::new(
+            out,
+            "<stdout>",
+            header,
+            Some(patches.len()),
+            1,
+            Channels::rgb(),
+            wopts,
+        )?;
+        for row in col.chunks_exact(3) {
+            w.write_row(row)?;
+        }
+        w.finish()?.flush().map_err(|e| Error::io("<stdout>", e))?;
+    } else {
+        let mtx = sky_matrix(&patches, &steps, &site, &opts, &progress);
+        let mut w = MatrixWriter::new(
+            out,
+            "<stdout>",
+            header,
+            Some(mtx.nrows()),
+            mtx.ncols(),
+            Channels::rgb(),
+            wopts,
+        )?;
+        let mut row = Vec::new();
+        for p in 0..mtx.nrows() {
+            mtx.row(p, &mut row);
+            w.write_row(&row)?;
+        }
+        w.finish()?.flush().map_err(|e| Error::io("<stdout>", e))?;
+    }
+    Ok(())
+}
+
+/// `--at`: one gendaylit sky as scene text.
+fn point_sky(m: &clap::ArgMatches, cli: &Cli) -> Result<(), Error> {
+    let at = cli.at.as_deref().unwrap_or_default();
+    let v: Vec<f64> = at
+        .split_whitespace()
+        .map(|w| w.parse::<f64>())
+        .collect::<Result<_, _>>()
+        .unwrap_or_default();
+    let (month, day, hour) = match v[..] {
+        [mo, d, h] if mo.fract() == 0.0 && d.fract() == 0.0 => (mo, d, h),
+        _ => {
+            return Err(Error::Usage(format!(
+                "--at \"{at}\": expected \"month day hour\" (e.g. \"3 2 12.5\")"
+            )));
+        }
+    };
+    if !(1.0..=12.0).contains(&month)
+        || !(1.0..=31.0).contains(&day)
+        || !(0.0..=24.0).contains(&hour)
+    {
+        return Err(Error::Usage(format!(
+            "--at \"{at}\": month 1..12, day 1..31 and hour 0..24 expected"
+        )));
+    }
+    let (month, day) = (month as u32, day as u32);
+    for (set, what) in [
+        (cli.skip_night, "-u"),
+        (cli.average, "-A"),
+        (cli.five.is_some(), "-5"),
+        (cli.interval.is_some(), "-i"),
+        (cli.rotation.is_some(), "-r"),
+        (cli.no_header, "-h"),
+    ] {
+        if set {
+            return Err(Error::Usage(format!("{what} is not used with --at")));
+        }
+    }
+    let num = |s: &Option<String>, what: &str| -> Result<Option<f64>, Error> {
+        s.as_deref()
+            .map(|t| {
+                t.parse::<f64>()
+                    .map_err(|_| Error::Usage(format!("{what} {t}: expected degrees")))
+            })
+            .transpose()
+    };
+    let (site, input) = match (&cli.weather, &cli.irradiance) {
+        (Some(_), Some(_)) => {
+            return Err(Error::Usage(
+                "--at takes a weather file or -W, not both".into(),
+            ));
+        }
+        (None, None) => {
+            return Err(Error::Usage(
+                "--at needs a weather file or -W dni dhi with -a, -o, -m".into(),
+            ));
+        }
+        (Some(path), None) => {
+            if cli.latitude.is_some() || cli.o.is_some() || cli.m.is_some() {
+                return Err(Error::Usage(
+                    "-a, -o and -m are not used with a weather file: its site applies".into(),
+                ));
+            }
+            let w = Weather::read_path(path)?;
+            let Some(input) = record_input(&w, month, day, hour) else {
+                return Err(Error::Usage(format!(
+                    "{path}: no record at month {month} day {day} hour {hour}"
+                )));
+            };
+            (radiance_site(&w), input)
+        }
+        (None, Some(wv)) => {
+            let (Some(lat), Some(lon), Some(mer)) =
+                (cli.latitude, num(&cli.o, "-o")?, num(&cli.m, "-m")?)
+            else {
+                return Err(Error::Usage("-W needs -a lat -o lon -m meridian".into()));
+            };
+            let site = solar::Site {
+                latitude: lat,
+                longitude_west: lon,
+                meridian_west: mer,
+            };
+            let (direct, diffuse) = (wv[0], wv[1]);
+            (
+                site,
+                GendaylitInput::DirectNormalIrradiance { direct, diffuse },
+            )
+        }
+    };
+    let c = colours(
+        m,
+        cli,
+        Colours {
+            sky: vec![1.0; 3],
+            ground: vec![0.2; 3],
+            sun: vec![1.0; 3],
+        },
+    );
+    let (grey, ground_colour) = split_ground_reflectance([c.ground[0], c.ground[1], c.ground[2]]);
+    let mut o = GendaylitOptions::new(input);
+    o.ground_reflectance = grey;
+    o.sun = c.sun[0] != 0.0;
+    if cli.output == Some(1) {
+        o.output = GendaylitOutput::Solar;
+    }
+    let (pos, sky) = GendaylitSky::for_date(&site, month, day, hour, false, None, &o);
+    let mut words: Vec<String> = std::env::args().collect();
+    if let Some(w) = words.first_mut() {
+        *w = "rspecsky".into();
+    }
+    let comments = vec![words.join(" ")];
+    let text = point_sky_text(
+        &comments,
+        &pos,
+        &sky,
+        &PointSkyColours {
+            sky: [c.sky[0], c.sky[1], c.sky[2]],
+            ground: ground_colour,
+        },
+    );
+    let mut out = std::io::stdout().lock();
+    out.write_all(text.as_bytes())
+        .and_then(|_| out.flush())
+        .map_err(|e| Error::io("<stdout>", e))
+}
+
+/// `FORMAT=` is padded only in seekable output, as Radiance's `fputformat`: true when
+/// standard output is a regular file.
+fn stdout_is_file() -> bool {
+    #[cfg(unix)]
+    {
+        use std::os::fd::AsFd;
+        std::io::stdout()
+            .as_fd()
+            .try_clone_to_owned()
+            .map(std::fs::File::from)
+            .and_then(|f| f.metadata())
+            .is_ok_and(|m| m.is_file())
+    }
+    #[cfg(not(unix))]
+    {
+        false
+    }
 }

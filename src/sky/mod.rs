@@ -15,6 +15,8 @@
 //!
 //! - [`gendaylit`]: gendaylit's own Perez implementation (its `perezlum.cal` arguments),
 //!   so gendaylit skies can be evaluated natively.
+//! - [`matrix`]: gendaymtx's time-series sky matrix (weather file to patch x time steps).
+//! - [`pointsky`]: a point-in-time gendaylit sky as Radiance scene text, with glow sources.
 //!
 //! Coordinates everywhere: +X east, +Y north, +Z zenith; radiance in W sr^-1 m^-2 of
 //! Radiance's visible "white" (luminance / 179).
@@ -22,8 +24,10 @@
 pub mod cie;
 pub mod efficacy;
 pub mod gendaylit;
+pub mod matrix;
 pub mod patches;
 pub mod perez;
+pub mod pointsky;
 pub mod solar;
 
 pub use cie::{CieSky, CieSkyDescription, GenskyOptions};

@@ -1,0 +1,41 @@
+#!/usr/bin/env bash
+# Time rspecsky against real gendaymtx on the full London IWEC year (8760 steps), MF 1 and
+# MF 4, float output (-of) to a file: median of 3 runs of wall-clock and CPU (user + sys)
+# seconds, and the ratio ours / gendaymtx. Not a test: numbers depend on the machine and
+# its load. Usage: benches/rspecsky.sh [runs]   (RADIANCE_BIN overrides the pyradiance bin/)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+runs=${1:-3}
+if [ -z "${RADIANCE_BIN:-}" ]; then
+    root=$(python3 -c "import pyradiance,os;print(os.path.dirname(pyradiance.__file__))")
+    RADIANCE_BIN=$root/bin
+    export RAYPATH=${RAYPATH:-$root/lib}
+fi
+cargo build --release --quiet --bin rspecsky
+ours=target/release/rspecsky
+epw=examples/weather/GBR_London.Gatwick.037760_IWEC.epw
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+
+# median WALL CPU of $runs runs of the given command (stdout to a scratch file)
+measure() {
+    for _ in $(seq "$runs"); do
+        /usr/bin/time -f "%e %U %S" -o "$tmp/t" "$@" > "$tmp/out"
+        awk '{printf "%s %.2f\n", $1, $2 + $3}' "$tmp/t"
+    done | sort -n -k1,1 > "$tmp/w"
+    wall=$(awk -v n="$runs" 'NR == int((n + 1) / 2) {print $1}' "$tmp/w")
+    cpu=$(sort -n -k2,2 "$tmp/w" | awk -v n="$runs" 'NR == int((n + 1) / 2) {print $2}')
+    echo "$wall $cpu"
+}
+
+printf "%-4s %-10s %8s %8s\n" MF program wall_s cpu_s
+for mf in 1 4; do
+    read -r rw rc < <(measure "$RADIANCE_BIN/gendaymtx" -m "$mf" -of "$epw")
+    read -r ow oc < <(measure "$ours" -m "$mf" -of "$epw")
+    printf "%-4s %-10s %8s %8s\n" "$mf" gendaymtx "$rw" "$rc"
+    printf "%-4s %-10s %8s %8s\n" "$mf" rspecsky "$ow" "$oc"
+    awk -v a="$ow" -v b="$rw" -v c="$oc" -v d="$rc" -v mf="$mf" 'BEGIN {
+        printf "MF %s ratio rspecsky / gendaymtx: wall %.2f, cpu %.2f\n", mf,
+            (b > 0 ? a / b : 0), (d > 0 ? c / d : 0) }'
+done
+echo "(median of $runs runs; $(nproc) cores; load $(cut -d' ' -f1-3 /proc/loadavg))"
