@@ -113,6 +113,8 @@ pub fn ours(bin: &str) -> Command {
         "rdc" => env!("CARGO_BIN_EXE_rdc"),
         "rspecsky" => env!("CARGO_BIN_EXE_rspecsky"),
         "rmetrics" => env!("CARGO_BIN_EXE_rmetrics"),
+        "rglare" => env!("CARGO_BIN_EXE_rglare"),
+        "ruplift" => env!("CARGO_BIN_EXE_ruplift"),
         other => panic!("unknown binary {other}"),
     };
     Command::new(path)
