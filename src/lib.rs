@@ -12,16 +12,18 @@
 //! - [`radiometry`]: channel layouts (RGB or N spectral bands) shared by every buffer.
 //! - [`info`]: summaries of any file (what `rinfo` prints).
 //! - [`geometry`]: shapes, rays, polygon triangulation and the scene BVH for the ray tracer.
+//! - [`trace`]: the Monte Carlo path tracer (daylight coefficients, irradiance, radiance).
 //! - [`cli`]: what the thin binaries in `bin/` share (exit codes, progress, atomic output).
 
 pub mod cli;
 pub mod error;
 pub mod formats;
-pub mod info;
 pub mod geometry;
+pub mod info;
 pub mod material;
 pub mod radiometry;
 pub mod scene;
 pub mod sky;
+pub mod trace;
 
 pub use error::{Error, Location, Result};
