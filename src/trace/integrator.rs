@@ -222,6 +222,7 @@ impl Renderable {
 
     /// Walk one path from `ray`, adding radiance (values mode) to the return value and
     /// calling `escape(dir, throughput)` for escapes in coefficients mode.
+    #[allow(clippy::too_many_arguments)]
     fn walk(
         &self,
         mut ray: Ray,
@@ -299,7 +300,7 @@ impl Renderable {
             }
             st.beta = st.beta * smp.weight;
             let w = w0 * st.beta.mean();
-            if !(w > 0.0) {
+            if w.is_nan() || w <= 0.0 {
                 return out;
             }
             if w < params.lw {
