@@ -390,16 +390,17 @@ fn summary(diffs: &[f64]) -> (f64, f64) {
     (quantile(&mut a, 0.5), quantile(&mut a.clone(), 0.95))
 }
 
-#[test]
-fn office_daylight_coefficients_agree_with_rcontrib_annual_totals() {
+/// DC annual totals of every 8th office sensor (21 of 165) against the 3-run rcontrib mean
+/// `dc/{name}_m1.mtx`; `spread` = Radiance's measured (median, p95) run-to-run spread.
+fn dc_vs_rcontrib(name: &str, spread: (f64, f64)) {
     let r = Renderable::compile(
-        &load(&["scenes/office.rad", "scenes/sky_glow360.rad"]),
+        &load(&[&format!("scenes/{name}.rad"), "scenes/sky_glow360.rad"]),
         &Channels::rgb(),
         &ShadingOptions::rcontrib(),
     )
     .unwrap();
     let p = SkyPatches::new(1);
-    let reference = matrix("dc/office_m1.mtx");
+    let reference = matrix(&format!("dc/{name}_m1.mtx"));
     let sky = matrix("sky/london_year_m1_A.smx");
     let all = sensors("sensors/office.pts");
     let annual = |row: &dyn Fn(usize) -> [f64; 3]| -> f64 {
@@ -413,7 +414,6 @@ fn office_daylight_coefficients_agree_with_rcontrib_annual_totals() {
     };
     let mut diffs = Vec::new();
     let mut rng = Pcg64::seed_from_u64(2026);
-    // 21 sensors spread over the room (every 8th of 165).
     for s in (0..all.len()).step_by(8) {
         let (o, d) = all[s];
         let mut dc = vec![0.0; p.len() * 3];
@@ -426,27 +426,49 @@ fn office_daylight_coefficients_agree_with_rcontrib_annual_totals() {
         diffs.push(ours / theirs - 1.0);
     }
     let (med, p95) = summary(&diffs);
-    eprintln!("office DC annual totals: median |diff| {med:.4}, p95 {p95:.4}; {diffs:.3?}");
-    // Radiance's own spread (README): median 0.88 %, p95 3.5 %.
-    assert!(med <= 0.0088 + 0.02, "median {med}");
-    assert!(p95 <= 0.035 + 0.05, "p95 {p95}");
     let mean = diffs.iter().sum::<f64>() / diffs.len() as f64;
-    assert!(mean.abs() < 0.02, "mean bias {mean}");
+    eprintln!(
+        "{name} DC annual totals: median |diff| {med:.4}, p95 {p95:.4}, mean {mean:.4}; {diffs:.3?}"
+    );
+    assert!(med <= spread.0 + 0.02, "{name}: median {med}");
+    assert!(p95 <= spread.1 + 0.05, "{name}: p95 {p95}");
+    // A systematic offset would show as a mean far beyond the noise of 21 sensors.
+    assert!(mean.abs() < 0.02, "{name}: mean bias {mean}");
 }
 
 #[test]
-fn office_clear_sky_irradiance_agrees_with_rtrace() {
+fn office_daylight_coefficients_agree_with_rcontrib_annual_totals() {
+    // Radiance's own spread (README): median 0.88 %, p95 3.5 %.
+    dc_vs_rcontrib("office", (0.0088, 0.035));
+}
+
+#[test]
+fn furnished_daylight_coefficients_agree_with_rcontrib_annual_totals() {
+    // Many small polygons and occlusion; Radiance's spread: median 1.0 %, p95 3.6 %.
+    dc_vs_rcontrib("furnished", (0.010, 0.036));
+}
+
+#[test]
+fn specular_daylight_coefficients_agree_with_rcontrib_annual_totals() {
+    // Mirror-like plastic floor and Ward metal: Gaussian and pure specular sampling;
+    // Radiance's spread: median 0.85 %, p95 3.1 %.
+    dc_vs_rcontrib("specular", (0.0085, 0.031));
+}
+
+/// Irradiance of every 8th office sensor under a gendaylit sky against the 3-run rtrace
+/// mean `points/{scene}_{case}.txt`; `spread` as measured by the fixture script.
+fn points_vs_rtrace(scene: &str, case: &str, spread: (f64, f64)) {
     let r = Renderable::compile(
         &load(&[
-            "scenes/office.rad",
-            "skies/clear_gendaylit.rad",
+            &format!("scenes/{scene}.rad"),
+            &format!("skies/{case}_gendaylit.rad"),
             "skies/skyglow.rad",
         ]),
         &Channels::rgb(),
         &ShadingOptions::rtrace(),
     )
     .unwrap();
-    let reference = points("points/office_clear.txt");
+    let reference = points(&format!("points/{scene}_{case}.txt"));
     let all = sensors("sensors/office.pts");
     let params = TraceParams {
         ab: 5,
@@ -463,10 +485,24 @@ fn office_clear_sky_irradiance_agrees_with_rtrace() {
         diffs.push(ours / theirs - 1.0);
     }
     let (med, p95) = summary(&diffs);
-    eprintln!("office clear irradiance: median |diff| {med:.4}, p95 {p95:.4}; {diffs:.3?}");
-    // Radiance's own spread (README): median 1.0 %, p95 3.2 %.
-    assert!(med <= 0.010 + 0.02, "median {med}");
-    assert!(p95 <= 0.032 + 0.05, "p95 {p95}");
+    let mean = diffs.iter().sum::<f64>() / diffs.len() as f64;
+    eprintln!(
+        "{scene} {case} irradiance: median |diff| {med:.4}, p95 {p95:.4}, mean {mean:.4}; {diffs:.3?}"
+    );
+    assert!(med <= spread.0 + 0.02, "{case}: median {med}");
+    assert!(p95 <= spread.1 + 0.05, "{case}: p95 {p95}");
+}
+
+#[test]
+fn office_clear_sky_irradiance_agrees_with_rtrace() {
+    // Sun through the window (direct at the sensors and at every diffuse vertex).
+    points_vs_rtrace("office", "clear", (0.010, 0.032));
+}
+
+#[test]
+fn office_intermediate_and_overcast_irradiance_agree_with_rtrace() {
+    points_vs_rtrace("office", "intermediate", (0.0135, 0.046));
+    points_vs_rtrace("office", "overcast", (0.014, 0.042));
 }
 
 #[test]
@@ -514,8 +550,9 @@ fn open_sensor_irradiance_is_sun_plus_integrated_perez_sky() {
     let want = direct + sky;
     let se = stats.std_error(0);
     assert!(se > 0.0 && se < 0.01 * sky, "se {se}");
+    eprintln!("open sensor under clear sky: ours {got}, oracle {want} (se {se}, grid {grid_err})");
     assert!(
-        (got - want).abs() < 4.0 * se + 1e-4 * want,
+        (got - want).abs() < 4.0 * se + 2.0 * grid_err,
         "{got} vs {want} (se {se})"
     );
 }
