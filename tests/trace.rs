@@ -8,6 +8,8 @@
 //!   differences of annual totals (or point values) from the 3-run Radiance mean, median
 //!   within Radiance's run-to-run spread + 2 % and p95 within its p95 + 5 %.
 
+mod common;
+
 use rand::SeedableRng;
 use rand_pcg::Pcg64;
 use rdaylight::formats::matrix::{Matrix, ReadOptions};
@@ -555,4 +557,88 @@ fn open_sensor_irradiance_is_sun_plus_integrated_perez_sky() {
         (got - want).abs() < 4.0 * se + 2.0 * grid_err,
         "{got} vs {want} (se {se})"
     );
+}
+
+#[test]
+fn view_ray_radiance_agrees_with_live_rtrace() {
+    if !common::have_radiance("view_ray_radiance_agrees_with_live_rtrace") {
+        return;
+    }
+    // Office under the clear sky: a floor patch in the sun, shaded floor, ceiling, a view
+    // through the window (pure transmission to ground glow) and walls.
+    let files = [
+        "scenes/office.rad",
+        "skies/clear_gendaylit.rad",
+        "skies/skyglow.rad",
+    ];
+    let dir = common::tmpdir();
+    let oct = dir.path().join("office.oct");
+    let mut oconv = common::radiance("oconv");
+    oconv.args(files.iter().map(|f| fixture(f)));
+    std::fs::write(&oct, common::run_ok(&mut oconv, b"")).unwrap();
+    let rays: [[f64; 6]; 6] = [
+        [3.0, 6.0, 1.2, 0.0, -4.0, -1.2],
+        [3.0, 6.0, 1.2, 0.0, -0.5, -0.5],
+        [3.0, 6.0, 1.2, 0.0, 0.0, 1.0],
+        [3.0, 6.0, 1.2, 0.0, -1.0, 0.05],
+        [3.0, 4.0, 1.2, 0.0, 1.0, 0.0],
+        [1.0, 5.0, 1.5, -1.0, -0.3, -0.2],
+    ];
+    // Each ray 6 times: rtrace's random sequence runs on, so the repeats are independent
+    // estimates whose spread gives rtrace's own standard error.
+    const K: usize = 6;
+    let input: String = rays
+        .iter()
+        .flat_map(|r| std::iter::repeat_n(r, K))
+        .map(|r| format!("{} {} {} {} {} {}\n", r[0], r[1], r[2], r[3], r[4], r[5]))
+        .collect();
+    let out = common::run_ok(
+        common::radiance("rtrace")
+            .args([
+                "-h", "-ab", "3", "-ad", "2048", "-aa", "0", "-as", "0", "-lw", "1e-5",
+            ])
+            .arg(&oct),
+        input.as_bytes(),
+    );
+    let vals: Vec<f64> = String::from_utf8(out)
+        .unwrap()
+        .lines()
+        .map(|l| l.split_whitespace().next().unwrap().parse().unwrap())
+        .collect();
+    assert_eq!(vals.len(), rays.len() * K);
+    let r =
+        Renderable::compile(&load(&files), &Channels::rgb(), &ShadingOptions::rtrace()).unwrap();
+    let params = TraceParams {
+        ab: 3,
+        lw: 1e-5,
+        ..TraceParams::rtrace()
+    };
+    let mut rng = Pcg64::seed_from_u64(8);
+    for (k, ray) in rays.iter().enumerate() {
+        let theirs = &vals[k * K..(k + 1) * K];
+        let tm = theirs.iter().sum::<f64>() / K as f64;
+        let tvar = theirs.iter().map(|x| (x - tm).powi(2)).sum::<f64>() / (K - 1) as f64;
+        let n = 20000;
+        let (mut s1, mut s2) = (0.0, 0.0);
+        for _ in 0..n {
+            let (l, _) = r.radiance(
+                Vec3::new(ray[0], ray[1], ray[2]),
+                Vec3::new(ray[3], ray[4], ray[5]),
+                &params,
+                &mut rng,
+            );
+            let x = l.as_slice()[0] as f64;
+            s1 += x;
+            s2 += x * x;
+        }
+        let om = s1 / n as f64;
+        let ovar = (s2 / n as f64 - om * om).max(0.0);
+        let se = (tvar / K as f64 + ovar / n as f64).sqrt();
+        eprintln!("view ray {k}: ours {om:.5} rtrace {tm:.5} (combined se {se:.5})");
+        // 4 sigma of the combined error, with a 0.5 % floor for rtrace's 6-sample spread.
+        assert!(
+            (om - tm).abs() <= 4.0 * se + 0.005 * tm,
+            "ray {k}: ours {om} rtrace {tm} se {se}"
+        );
+    }
 }
