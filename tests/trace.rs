@@ -642,3 +642,61 @@ fn view_ray_radiance_agrees_with_live_rtrace() {
         );
     }
 }
+
+#[test]
+fn spectral_channels_flow_through_and_renderable_is_shareable() {
+    fn shareable<T: Send + Sync>() {}
+    shareable::<Renderable>();
+    let ch = Channels::spectral(6, 380.0, 780.0).unwrap();
+    let r = Renderable::compile(
+        &load(&["scenes/office.rad", "scenes/sky_glow360.rad"]),
+        &ch,
+        &ShadingOptions::rcontrib(),
+    )
+    .unwrap();
+    assert_eq!(r.ncomp(), 6);
+    let p = SkyPatches::new(1);
+    let mut dc = vec![0.0; p.len() * 6];
+    let mut rng = Pcg64::seed_from_u64(6);
+    let stats = r.dc_sensor(
+        Vec3::new(3.0, 2.0, 0.8),
+        Vec3::new(0., 0., 1.),
+        2000,
+        &dc_params(3),
+        &p,
+        &mut rng,
+        &mut dc,
+    );
+    assert_eq!((stats.sum.len(), stats.n), (6, 2000));
+    assert!(stats.rays >= 2000);
+    // Grey materials: every band carries the same coefficients (to f32 rounding).
+    for i in 0..p.len() {
+        for c in 1..6 {
+            assert!((dc[i * 6 + c] - dc[i * 6]).abs() <= 1e-6 * dc[i * 6].max(1e-9));
+        }
+    }
+    let total: f64 = dc.iter().step_by(6).sum();
+    // Inside the room, part of every path is absorbed: 0 < total < pi.
+    assert!(total > 0.05 && total < PI, "{total}");
+}
+
+#[test]
+fn gensky_skyfunc_is_evaluated_natively() {
+    let s = load(&["skies/clear_gensky.rad", "skies/skyglow.rad"]);
+    let r = Renderable::compile(&s, &Channels::rgb(), &ShadingOptions::rtrace()).unwrap();
+    let skyfunc = s
+        .objects
+        .iter()
+        .find_map(|o| match &o.kind {
+            scene::Primitive::BrightFunc { args, .. } => Some(args.clone()),
+            _ => None,
+        })
+        .unwrap();
+    let mut rng = Pcg64::seed_from_u64(1);
+    for d in [[0.0, 0.0, 1.0], [0.0, -0.6, 0.8], [0.8, 0.0, -0.6]] {
+        let (l, _) = r.radiance(Vec3::ZERO, Vec3::from(d), &TraceParams::rtrace(), &mut rng);
+        let want = rdaylight::sky::cie::skybright(d, &skyfunc);
+        assert!(want > 0.0);
+        assert!((l.as_slice()[0] as f64 - want).abs() < 1e-5 * want, "{d:?}");
+    }
+}
