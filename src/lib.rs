@@ -15,6 +15,7 @@
 //! - [`radiometry`]: channel layouts (RGB or N spectral bands) shared by every buffer.
 //! - [`info`]: summaries of any file (what `rinfo` prints).
 //! - [`geometry`]: shapes, rays, polygon triangulation and the scene BVH for the ray tracer.
+//! - [`trace`]: the Monte Carlo path tracer (daylight coefficients, irradiance, radiance).
 //! - [`cli`]: what the thin binaries in `bin/` share (exit codes, progress, atomic output).
 
 pub mod cli;
@@ -28,5 +29,6 @@ pub mod radiometry;
 pub mod rdc;
 pub mod scene;
 pub mod sky;
+pub mod trace;
 
 pub use error::{Error, Location, Result};

@@ -1,0 +1,441 @@
+//! Scene -> [`Renderable`]: shapes with resolved materials in one BVH, plus distant sources.
+//!
+//! What Radiance does, and what we do:
+//! - A surface's material is the first material in its modifier chain (`findmaterial`).
+//!   A chain that ends in `void` without a material (or a surface modified by `void`) makes
+//!   the surface transparent: `raytrace` calls `rayshade`, which finds no material, and the
+//!   ray continues unchanged (`raytrans`). Such surfaces change nothing for any ray (primary,
+//!   indirect or shadow), so they are left out of the BVH.
+//! - Argument fix-ups before building shapes (`src/rt/sphere.c`, `src/common/cone.c`): a
+//!   negative sphere radius flips sphere <-> bubble; negative cylinder radius flips
+//!   cylinder <-> tube; a cone whose radii are both <= 0 (one < 0) flips cone <-> cup with
+//!   negated radii; a cone with equal radii is a cylinder.
+//! - `source` primitives become [`DistantSource`]s (see [`super::sources`]).
+//!
+//! Refused with `Error::unsupported` at the object's `file:line` (so nothing is silently
+//! rendered wrong): `instance`, `mesh` and other surface types; patterns, textures and
+//! mixtures on surfaces; materials other than plastic/metal/trans/glass/mirror/glow (e.g.
+//! BSDF, `spotlight`); *local* direct sources (`light`, `illum`, `glow` with maxrad > 0 on
+//! surfaces: no next-event estimation to surfaces yet); `mirror`/`illum` alternate
+//! materials; patterns on distant sources other than the two sky functions above.
+
+use super::sources::{DistantKind, DistantSource, SkyPattern, Sources};
+use crate::error::{Error, Result};
+use crate::geometry::{Bvh, Object as GeoObject, Shape, Vec3};
+use crate::material::{Emitter, EmitterKind, Material, ShadingOptions};
+use crate::radiometry::Channels;
+use crate::scene::{Class, Object, Primitive, Scene};
+
+/// One traced surface.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SurfaceInfo {
+    /// Index into [`Renderable::materials`].
+    pub material: u32,
+    /// Radiance's `isflat` (polygons and rings).
+    pub flat: bool,
+    /// Index of the surface in [`Scene::objects`].
+    pub scene_index: u32,
+}
+
+/// A scene ready for tracing: build once, share between threads (`Renderable: Sync`).
+pub struct Renderable {
+    pub(super) bvh: Bvh,
+    /// Per BVH object id.
+    pub(super) surfaces: Vec<SurfaceInfo>,
+    pub(super) materials: Vec<Material>,
+    pub(super) sources: Sources,
+    pub(super) ncomp: usize,
+}
+
+impl std::fmt::Debug for Renderable {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Renderable")
+            .field("surfaces", &self.surfaces.len())
+            .field("materials", &self.materials.len())
+            .field("sources", &self.sources)
+            .field("ncomp", &self.ncomp)
+            .finish()
+    }
+}
+
+/// The pattern file's name without directories (`skybright.cal` in `/usr/lib/skybright.cal`).
+fn basename(file: &str) -> &str {
+    file.rsplit(['/', '\\']).next().unwrap_or(file)
+}
+
+fn unsupported(o: &Object, what: impl Into<String>) -> Error {
+    Error::unsupported(o.loc.clone(), what)
+}
+
+/// The sky pattern of a distant glow from the patterns modifying its material.
+fn sky_pattern(scene: &Scene, src: &Object, material: usize) -> Result<SkyPattern> {
+    let pats = scene.patterns_of(material);
+    match pats.as_slice() {
+        [] => Ok(SkyPattern::Uniform),
+        [p] => {
+            let po = &scene.objects[*p];
+            match &po.kind {
+                Primitive::BrightFunc {
+                    function,
+                    file,
+                    transform,
+                    args,
+                } => {
+                    if !transform.is_empty() {
+                        return Err(unsupported(
+                            po,
+                            format!(
+                                "transform '{}' on brightfunc '{}'; expected none",
+                                transform.join(" "),
+                                po.id
+                            ),
+                        ));
+                    }
+                    match (basename(file), function.as_str()) {
+                        ("skybright.cal", "skybr") => Ok(SkyPattern::SkyBright(args.clone())),
+                        ("perezlum.cal", "skybright") => {
+                            let a: [f64; 10] = args.as_slice().try_into().map_err(|_| {
+                                Error::parse(
+                                    po.loc.clone(),
+                                    format!(
+                                        "brightfunc '{}' has {} real arguments; perezlum.cal expects 10",
+                                        po.id,
+                                        args.len()
+                                    ),
+                                )
+                            })?;
+                            Ok(SkyPattern::PerezLum(a))
+                        }
+                        (f, func) => Err(unsupported(
+                            po,
+                            format!(
+                                "brightfunc '{}' ({func} from {f}) on source '{}'; supported: skybr from skybright.cal, skybright from perezlum.cal",
+                                po.id, src.id
+                            ),
+                        )),
+                    }
+                }
+                _ => Err(unsupported(
+                    po,
+                    format!(
+                        "{} '{}' on source '{}'; only a sky brightfunc is supported",
+                        po.type_name(),
+                        po.id,
+                        src.id
+                    ),
+                )),
+            }
+        }
+        [_, p, ..] => {
+            let po = &scene.objects[*p];
+            Err(unsupported(
+                po,
+                format!(
+                    "second pattern '{}' on source '{}'; at most one sky brightfunc",
+                    po.id, src.id
+                ),
+            ))
+        }
+    }
+}
+
+fn distant_source(
+    scene: &Scene,
+    i: usize,
+    o: &Object,
+    direction: [f64; 3],
+    angle: f64,
+    ch: &Channels,
+    opts: &ShadingOptions,
+) -> Result<Option<DistantSource>> {
+    // A source needs a non-zero direction.
+    let dir = Vec3::from(direction);
+    if !(dir.is_finite() && dir.length() > 0.0 && angle.is_finite()) {
+        return Err(Error::parse(
+            o.loc.clone(),
+            format!(
+                "source '{}' has direction {direction:?} and angle {angle}; expected a non-zero direction and a finite angle",
+                o.id
+            ),
+        ));
+    }
+    let Some(m) = scene.material_of(i) else {
+        return Ok(None);
+    };
+    // Patterns between the source and its material.
+    if let Some(p) = scene
+        .modifier_chain(i)
+        .take_while(|&k| k != m)
+        .find(|&k| scene.objects[k].class() != Class::Material)
+    {
+        let po = &scene.objects[p];
+        return Err(unsupported(
+            po,
+            format!(
+                "pattern '{}' between source '{}' and its material",
+                po.id, o.id
+            ),
+        ));
+    }
+    let mo = &scene.objects[m];
+    let mat = Material::from_object(mo, ch, opts)?;
+    let Some(Material::Emitter(Emitter { color, kind })) = mat else {
+        // Radiance: a source with a non-emitting material is no light source; rays that
+        // escape towards it see nothing.
+        return Ok(None);
+    };
+    if color.max() <= 1e-6 {
+        return Ok(None);
+    }
+    let kind = match kind {
+        EmitterKind::Light => {
+            if !scene.patterns_of(m).is_empty() {
+                return Err(unsupported(
+                    mo,
+                    format!("pattern on light source material '{}'", mo.id),
+                ));
+            }
+            DistantKind::Light
+        }
+        EmitterKind::Glow { max_radius } if max_radius < -1e-6 => DistantKind::DarkGlow,
+        EmitterKind::Glow { .. } => DistantKind::Glow,
+        EmitterKind::Illum { .. } => {
+            return Err(unsupported(
+                mo,
+                format!("illum '{}' on source '{}'", mo.id, o.id),
+            ));
+        }
+    };
+    let pattern = if kind == DistantKind::Light {
+        SkyPattern::Uniform
+    } else {
+        sky_pattern(scene, o, m)?
+    };
+    Ok(Some(DistantSource::new(
+        o.id.clone(),
+        dir,
+        angle,
+        color,
+        pattern,
+        kind,
+    )))
+}
+
+/// The shape of a surface primitive with Radiance's radius fix-ups; `None` for types that
+/// are not traced here (the caller reports them).
+fn shape_of(p: &Primitive) -> Option<Shape> {
+    Some(match p {
+        Primitive::Polygon { vertices } => Shape::Polygon {
+            vertices: vertices.clone(),
+        },
+        Primitive::Sphere {
+            center,
+            radius,
+            inward,
+        } => Shape::Sphere {
+            centre: *center,
+            radius: radius.abs(),
+            inward: *inward ^ (*radius < 0.0),
+        },
+        Primitive::Cylinder {
+            p0,
+            p1,
+            radius,
+            inward,
+        } => Shape::Cylinder {
+            p0: *p0,
+            p1: *p1,
+            r: radius.abs(),
+            inward: *inward ^ (*radius < 0.0),
+        },
+        Primitive::Cone {
+            p0,
+            p1,
+            r0,
+            r1,
+            inward,
+        } => {
+            let flip = *r0 <= 0.0 && *r1 <= 0.0 && (*r0 < 0.0 || *r1 < 0.0);
+            let (r0, r1) = if flip { (-r0, -r1) } else { (*r0, *r1) };
+            let inward = *inward ^ flip;
+            if r0 == r1 {
+                Shape::Cylinder {
+                    p0: *p0,
+                    p1: *p1,
+                    r: r0,
+                    inward,
+                }
+            } else {
+                Shape::Cone {
+                    p0: *p0,
+                    p1: *p1,
+                    r0,
+                    r1,
+                    inward,
+                }
+            }
+        }
+        Primitive::Ring {
+            center,
+            normal,
+            r0,
+            r1,
+        } => Shape::Ring {
+            centre: *center,
+            normal: *normal,
+            r_in: *r0,
+            r_out: *r1,
+        },
+        _ => return None,
+    })
+}
+
+impl Renderable {
+    /// Compile a parsed scene for channels `ch` with shading options `opts` (use
+    /// [`ShadingOptions::rcontrib`] for coefficients, [`ShadingOptions::rtrace`] for values).
+    pub fn compile(scene: &Scene, ch: &Channels, opts: &ShadingOptions) -> Result<Renderable> {
+        let mut geo: Vec<GeoObject> = Vec::new();
+        let mut surfaces = Vec::new();
+        let mut materials: Vec<Material> = Vec::new();
+        // Scene index of a material -> index in `materials`.
+        let mut mat_index: std::collections::HashMap<usize, u32> = Default::default();
+        let mut sources = Sources::default();
+        for (i, o) in scene.objects.iter().enumerate() {
+            match &o.kind {
+                Primitive::Source { direction, angle } => {
+                    if let Some(s) = distant_source(scene, i, o, *direction, *angle, ch, opts)? {
+                        sources.list.push(s);
+                    }
+                    continue;
+                }
+                k if !k.is_surface() => continue,
+                Primitive::Instance { .. } | Primitive::Mesh { .. } | Primitive::Other { .. } => {
+                    return Err(unsupported(
+                        o,
+                        format!(
+                            "primitive type '{}' ('{}'); supported surfaces: polygon, sphere, bubble, cone, cup, cylinder, tube, ring, source",
+                            o.type_name(),
+                            o.id
+                        ),
+                    ));
+                }
+                _ => {}
+            }
+            let Some(m) = scene.material_of(i) else {
+                continue; // void: transparent to every ray (see the module documentation)
+            };
+            if let Some(p) = scene
+                .modifier_chain(i)
+                .take_while(|&k| k != m)
+                .chain(scene.patterns_of(m))
+                .next()
+            {
+                let po = &scene.objects[p];
+                return Err(unsupported(
+                    po,
+                    format!(
+                        "{} '{}' modifying surface '{}' (patterns and textures are not modelled)",
+                        po.type_name(),
+                        po.id,
+                        o.id
+                    ),
+                ));
+            }
+            let mi = match mat_index.get(&m) {
+                Some(&k) => k,
+                None => {
+                    let mo = &scene.objects[m];
+                    let mat = Material::from_object(mo, ch, opts)?.ok_or_else(|| {
+                        unsupported(
+                            mo,
+                            format!("material '{}' of type {}", mo.id, mo.type_name()),
+                        )
+                    })?;
+                    match &mat {
+                        Material::Emitter(e) if e.is_direct_source(false) => {
+                            return Err(unsupported(
+                                mo,
+                                format!(
+                                    "local light source material '{}' ({}) on surface '{}': only distant sources (source primitives) and glow with maxrad <= 0 are traced",
+                                    mo.id,
+                                    mo.type_name(),
+                                    o.id
+                                ),
+                            ));
+                        }
+                        Material::Emitter(e) if e.alternate().is_some() => {
+                            return Err(unsupported(
+                                mo,
+                                format!("alternate material of illum '{}'", mo.id),
+                            ));
+                        }
+                        Material::Mirror(mm) if mm.alternate.is_some() => {
+                            return Err(unsupported(
+                                mo,
+                                format!("alternate material of mirror '{}'", mo.id),
+                            ));
+                        }
+                        _ => {}
+                    }
+                    let k = materials.len() as u32;
+                    materials.push(mat);
+                    mat_index.insert(m, k);
+                    k
+                }
+            };
+            let shape = shape_of(&o.kind).ok_or_else(|| {
+                unsupported(
+                    o,
+                    format!("primitive type '{}' ('{}')", o.type_name(), o.id),
+                )
+            })?;
+            shape.validate().map_err(|e| {
+                Error::parse(o.loc.clone(), format!("{} '{}': {e}", o.type_name(), o.id))
+            })?;
+            let flat = matches!(shape, Shape::Polygon { .. } | Shape::Ring { .. });
+            geo.push(GeoObject {
+                shape,
+                id: surfaces.len() as u32,
+            });
+            surfaces.push(SurfaceInfo {
+                material: mi,
+                flat,
+                scene_index: i as u32,
+            });
+        }
+        let bvh = Bvh::build(&geo).map_err(|e| {
+            let o = &scene.objects[surfaces[e.index].scene_index as usize];
+            Error::parse(
+                o.loc.clone(),
+                format!("{} '{}': {}", o.type_name(), o.id, e.error),
+            )
+        })?;
+        Ok(Renderable {
+            bvh,
+            surfaces,
+            materials,
+            sources,
+            ncomp: ch.ncomp.max(1),
+        })
+    }
+
+    /// The distant sources (sun, sky, ground) in scene order.
+    pub fn sources(&self) -> &Sources {
+        &self.sources
+    }
+
+    /// Number of traced surfaces (void-modified ones are left out).
+    pub fn surface_count(&self) -> usize {
+        self.surfaces.len()
+    }
+
+    /// Channels per value.
+    pub fn ncomp(&self) -> usize {
+        self.ncomp
+    }
+
+    /// The BVH (for benchmarks and tools that only cast rays).
+    pub fn bvh(&self) -> &Bvh {
+        &self.bvh
+    }
+}

@@ -1,0 +1,493 @@
+//! Monte Carlo path tracing with Radiance's path-depth and source rules.
+//!
+//! Three entry points, all drawing every random number from the caller's `rand::Rng`:
+//!
+//! | entry | Radiance counterpart | estimate |
+//! |---|---|---|
+//! | [`Renderable::dc_sensor`] | `rcontrib -I+ -V- -aa 0 -as 0` with a sky binning (`rbin`) | sky coefficients per patch |
+//! | [`Renderable::irradiance`] | `rtrace -I -aa 0 -as 0` | irradiance at a point (W/m^2 per channel) |
+//! | [`Renderable::radiance`] | `rtrace` / `rpict` view rays | radiance along a ray (one path) |
+//!
+//! ## Sensor (`-I`)
+//! Radiance evaluates a sensor as a white Lambertian surface ("Lamb") shaded at
+//! `org + 1e-4 dir` with normal `dir` (`rcontrib.c:eval_irrad`, `rtrace.c:rtcompute`); the
+//! reported value is `pi x` its radiance, i.e. irradiance. Its ambient hemisphere sampling
+//! (`-ad N`) is the first diffuse bounce. Here: `N` cosine-distributed directions (jittered
+//! stratification on a `floor(sqrt N)^2` grid, the rest independent), each continued as one
+//! path; irradiance = `(pi/N) sum(path radiance)` plus, for `irradiance`, the direct term
+//! `L omega cos` of every distant `light` (the sun) aimed at its centre (`-dj 0`).
+//!
+//! ## Path depth (`-ab`, `-lr`, `-lw`)
+//! - `-ab`: the number of *diffuse* (ambient) bounces, the sensor's hemisphere sample
+//!   counting as bounce 1. A surface reached after `ab` diffuse bounces still gets direct
+//!   light (next-event estimation) and may continue through pure or Gaussian specular
+//!   lobes (glass, mirrors, specular plastic: Radiance's ambient level only counts ambient
+//!   rays), but its diffuse lobe returns the ambient value `-av` (default black). The
+//!   material sampler picks one lobe per vertex in proportion to its coefficient, so
+//!   stopping (or adding `-av`) when the diffuse lobe is picked past the limit is unbiased
+//!   for that rule.
+//! - `-lw`: Radiance gives each ray a weight relative to the primary ray (an ambient sample
+//!   of a sensor with `-ad N` has weight `1/N` times the path coefficient) and plays Russian
+//!   roulette when it falls below `-lw` (`raytrace.c:rayorigin`: continue with probability
+//!   `weight/lw`, then scale the coefficient by `lw/weight`). We use the same weight:
+//!   `w0 x mean(path throughput)`, `w0 = 1/N` for sensor paths and 1 for view rays.
+//!   Russian roulette leaves the expectation unchanged, so only noise depends on `-lw`.
+//! - `-lr` (negative, -10 by default): a hard cap on the total number of reflections and
+//!   transmissions, `max_depth`.
+//!
+//! ## Sources (`badcomponent`)
+//! Once a path has taken a diffuse or Gaussian-specular sample it no longer sees direct
+//! sources (the sun): next-event estimation counted them. Glow skies (`glow` on `source`)
+//! are never direct sources and are seen by every escaping ray; a `glow` surface with
+//! maxrad 0 is seen by every ray. Shadow rays pass `glass`, pure-specular `trans` and
+//! nothing else (no caustics through mirrors: Radiance's virtual sources `-dr` are not
+//! modelled, so sunlight reflected by a `mirror` is missing, as with `rtrace -dr 0`).
+//!
+//! ## Daylight coefficients (`dc_sensor`)
+//! rcontrib `-V-` reports the *coefficient* of the tracked modifier: the path weight of
+//! every ray that reaches it, not multiplied by its radiance. Here every ray that escapes
+//! the scene into a distant `glow` (or into empty space when the scene has no distant
+//! source at all) adds `pi/N x throughput` to bin `patches.bin_of(dir)`; escapes towards a
+//! distant `light` (if the scene has one) count nothing, as in rcontrib where the sun's
+//! modifier is not tracked; no next-event estimation is done.
+
+use super::compile::Renderable;
+use crate::geometry::{Hit, Ray, Vec3};
+use crate::material::sampling::{cosine_hemisphere, frame};
+use crate::material::{Color, Material, SampleKind, Surface};
+use crate::sky::SkyPatches;
+use rand::Rng;
+use std::f64::consts::PI;
+
+/// Radiance's sensor offsets: shading point `org + 1e-4 dir` (`eval_irrad`).
+pub const SENSOR_OFFSET: f64 = 1e-4;
+
+/// Path-depth options (Radiance's `-ab`, `-lw`, `-lr`, `-av`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TraceParams {
+    /// Maximum number of diffuse bounces (`-ab`).
+    pub ab: u32,
+    /// Russian-roulette weight threshold (`-lw`); 0 disables roulette.
+    pub lw: f64,
+    /// Cap on reflections/transmissions per path (`|-lr|`, 10 by default).
+    pub max_depth: u32,
+    /// Ambient value `-av` returned by diffuse lobes past `-ab` (None = black).
+    pub ambient_value: Option<Color>,
+}
+
+impl TraceParams {
+    /// rcontrib 6.0a defaults: `-ab 1 -lw 2e-3 -lr -10 -av 0 0 0`.
+    pub const fn rcontrib() -> Self {
+        TraceParams {
+            ab: 1,
+            lw: 2e-3,
+            max_depth: 10,
+            ambient_value: None,
+        }
+    }
+
+    /// rtrace 6.0a defaults: `-ab 0 -lw 1e-4 -lr -10 -av 0 0 0`.
+    pub const fn rtrace() -> Self {
+        TraceParams {
+            ab: 0,
+            lw: 1e-4,
+            max_depth: 10,
+            ambient_value: None,
+        }
+    }
+}
+
+/// Per-sample statistics of one sensor evaluation, for the caller's standard errors.
+///
+/// `sum`/`sum_sq` are, per channel, the sum and sum of squares over the `n` hemisphere
+/// samples of each sample's value (`pi x` path radiance, or `pi x` the path's escaping
+/// coefficient summed over patches). `sqrt((sum_sq/n - (sum/n)^2)/(n-1))` is then the
+/// standard error of the sensor total assuming independent samples; the first-bounce
+/// stratification makes the true error smaller, so this is conservative.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SampleStats {
+    pub n: usize,
+    pub sum: Vec<f64>,
+    pub sum_sq: Vec<f64>,
+    /// Rays cast (closest-hit and shadow queries).
+    pub rays: u64,
+}
+
+impl SampleStats {
+    fn new(ncomp: usize, n: usize) -> Self {
+        SampleStats {
+            n,
+            sum: vec![0.0; ncomp],
+            sum_sq: vec![0.0; ncomp],
+            rays: 0,
+        }
+    }
+
+    fn add(&mut self, v: &[f64]) {
+        for (c, &x) in v.iter().enumerate() {
+            self.sum[c] += x;
+            self.sum_sq[c] += x * x;
+        }
+    }
+
+    /// Estimated standard error of the mean (the sensor value) in channel `c`.
+    pub fn std_error(&self, c: usize) -> f64 {
+        if self.n < 2 {
+            return f64::INFINITY;
+        }
+        let n = self.n as f64;
+        let m = self.sum[c] / n;
+        ((self.sum_sq[c] / n - m * m).max(0.0) / (n - 1.0)).sqrt()
+    }
+}
+
+/// What the path walker does at escapes and emitters.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Mode {
+    /// Coefficients: no next-event estimation, escapes binned.
+    Coefficients,
+    /// Values: next-event estimation and emission.
+    Values,
+}
+
+/// Where one path is.
+struct PathState {
+    beta: Color,
+    sees_sources: bool,
+    diffuse: u32,
+    depth: u32,
+}
+
+/// Jittered-stratified cosine samples: index `k` of `n`.
+fn strat_uv(k: usize, n: usize, m: usize, rng: &mut impl Rng) -> (f64, f64) {
+    let (a, b): (f64, f64) = (rng.random(), rng.random());
+    if k < m * m {
+        let (i, j) = (k / m, k % m);
+        ((i as f64 + a) / m as f64, (j as f64 + b) / m as f64)
+    } else {
+        let _ = n;
+        (a, b)
+    }
+}
+
+impl Renderable {
+    /// Closest hit (counting the ray).
+    #[inline]
+    fn cast(&self, ray: &Ray, rays: &mut u64) -> Option<Hit> {
+        *rays += 1;
+        self.bvh.intersect(ray, 0.0, f64::INFINITY)
+    }
+
+    /// Transmission of a shadow ray from `org` towards the distant direction `dir`:
+    /// product of what each crossed surface passes; `None` when blocked.
+    fn shadow(&self, org: Vec3, dir: Vec3, rays: &mut u64) -> Option<Color> {
+        let mut t = Color::splat(self.ncomp, 1.0);
+        let mut ray = Ray { org, dir };
+        // A bounded number of crossings (double panes, furniture glass...).
+        for _ in 0..32 {
+            let Some(h) = self.cast(&ray, rays) else {
+                return Some(t);
+            };
+            let info = self.surfaces[h.object as usize];
+            let m = &self.materials[info.material as usize];
+            let s = Surface {
+                normal: h.normal.to_array(),
+                flat: info.flat,
+            };
+            t = t * m.shadow_transmission((-dir).to_array(), &s)?;
+            if t.max() <= 0.0 {
+                return None;
+            }
+            ray = h.spawn(dir);
+        }
+        None
+    }
+
+    /// Direct light from distant `light` sources at a surface hit (`wo` towards the viewer).
+    fn direct(&self, h: &Hit, m: &Material, s: &Surface, wo: Vec3, rays: &mut u64) -> Color {
+        let mut out = Color::black(self.ncomp);
+        for src in self.sources.lights() {
+            let Some(coef) = m.eval_direct(wo.to_array(), src.dir.to_array(), s, src.omega) else {
+                return out;
+            };
+            if coef.max() <= 0.0 {
+                continue;
+            }
+            if let Some(t) = self.shadow(h.spawn_origin(src.dir), src.dir, rays) {
+                out += coef * t * src.color;
+            }
+        }
+        out
+    }
+
+    /// Walk one path from `ray`, adding radiance (values mode) to the return value and
+    /// calling `escape(dir, throughput)` for escapes in coefficients mode.
+    #[allow(clippy::too_many_arguments)]
+    fn walk(
+        &self,
+        mut ray: Ray,
+        mut st: PathState,
+        w0: f64,
+        params: &TraceParams,
+        mode: Mode,
+        rng: &mut impl Rng,
+        rays: &mut u64,
+        escape: &mut dyn FnMut(Vec3, Color),
+    ) -> Color {
+        let mut out = Color::black(self.ncomp);
+        loop {
+            let Some(h) = self.cast(&ray, rays) else {
+                match mode {
+                    Mode::Values => {
+                        if let Some(l) = self.sources.escape(ray.dir, st.sees_sources) {
+                            out += st.beta * l;
+                        }
+                    }
+                    Mode::Coefficients => {
+                        let counts = if self.sources.is_empty() {
+                            true
+                        } else {
+                            matches!(
+                                self.sources.hit(ray.dir).map(|s| s.kind),
+                                Some(super::DistantKind::Glow | super::DistantKind::DarkGlow)
+                            )
+                        };
+                        if counts {
+                            escape(ray.dir, st.beta);
+                        }
+                    }
+                }
+                return out;
+            };
+            let info = self.surfaces[h.object as usize];
+            let m = &self.materials[info.material as usize];
+            let wo = -ray.dir;
+            let s = Surface {
+                normal: h.normal.to_array(),
+                flat: info.flat,
+            };
+            if let Material::Emitter(e) = m {
+                if mode == Mode::Values && (st.sees_sources || e.counts_for_indirect(h.t)) {
+                    out += st.beta * e.emission(wo.to_array(), &s);
+                }
+                return out;
+            }
+            if mode == Mode::Values && self.sources.lights().next().is_some() {
+                out += st.beta * self.direct(&h, m, &s, wo, rays);
+            }
+            if st.depth >= params.max_depth {
+                return out;
+            }
+            let (u1, u2, u3) = (rng.random(), rng.random(), rng.random());
+            let Some(smp) = m.sample(wo.to_array(), &s, u1, u2, u3) else {
+                return out;
+            };
+            let diffuse = matches!(
+                smp.kind,
+                SampleKind::DiffuseReflect | SampleKind::DiffuseTransmit
+            );
+            if diffuse {
+                if st.diffuse >= params.ab {
+                    if let (Mode::Values, Some(av)) = (mode, params.ambient_value) {
+                        out += st.beta * smp.weight * av;
+                    }
+                    return out;
+                }
+                st.diffuse += 1;
+            }
+            if !smp.kind.sees_sources() {
+                st.sees_sources = false;
+            }
+            st.beta = st.beta * smp.weight;
+            let w = w0 * st.beta.mean();
+            if w.is_nan() || w <= 0.0 {
+                return out;
+            }
+            if w < params.lw {
+                let p = w / params.lw;
+                if rng.random::<f64>() >= p {
+                    return out;
+                }
+                st.beta = st.beta.scale(1.0 / p);
+            }
+            st.depth += 1;
+            ray = h.spawn(Vec3::from(smp.wi));
+        }
+    }
+
+    /// Daylight coefficients of one sensor, rcontrib `-I+ -V-` style (see the module
+    /// documentation): `out[bin * ncomp + c] += pi/N x throughput` for every path of the
+    /// `nsamples` (`-ad`) hemisphere samples that escapes into patch `bin`
+    /// (`patches.bin_of(dir)`, ground = 0). `out` must hold `patches.len() * ncomp` values;
+    /// it is **added to** (zero it first), so callers may accumulate several calls.
+    /// `org`/`normal`: the sensor point and its (unit) normal.
+    #[allow(clippy::too_many_arguments)]
+    pub fn dc_sensor(
+        &self,
+        org: Vec3,
+        normal: Vec3,
+        nsamples: usize,
+        params: &TraceParams,
+        patches: &SkyPatches,
+        rng: &mut impl Rng,
+        out: &mut [f64],
+    ) -> SampleStats {
+        let nc = self.ncomp;
+        let n = nsamples.max(1);
+        let mut stats = SampleStats::new(nc, n);
+        let normal = normal.normalize();
+        if out.len() < patches.len() * nc || params.ab == 0 || normal.length() == 0.0 {
+            // -ab 0: the sensor sees no glow (radiance-notes 12.8).
+            return stats;
+        }
+        let p = org + normal * SENSOR_OFFSET;
+        let m = (n as f64).sqrt().floor() as usize;
+        let scale = PI / n as f64;
+        let mut sample_total = vec![0.0; nc];
+        for k in 0..n {
+            let (u, v) = strat_uv(k, n, m, rng);
+            let dir = Vec3::from(cosine_hemisphere(normal.to_array(), u, v));
+            let ray = Ray { org: p, dir };
+            let st = PathState {
+                beta: Color::splat(nc, 1.0),
+                sees_sources: false,
+                diffuse: 1,
+                depth: 1,
+            };
+            sample_total.iter_mut().for_each(|x| *x = 0.0);
+            let mut rays = 0;
+            self.walk(
+                ray,
+                st,
+                1.0 / n as f64,
+                params,
+                Mode::Coefficients,
+                rng,
+                &mut rays,
+                &mut |d, beta| {
+                    let bin = patches.bin_of(d.to_array());
+                    let row = &mut out[bin * nc..(bin + 1) * nc];
+                    for (c, (o, &b)) in row.iter_mut().zip(beta.as_slice()).enumerate() {
+                        *o += scale * b as f64;
+                        sample_total[c] += PI * b as f64;
+                    }
+                },
+            );
+            stats.rays += rays;
+            stats.add(&sample_total);
+        }
+        stats
+    }
+
+    /// Irradiance at a sensor, rtrace `-I -aa 0 -as 0` style (see the module documentation):
+    /// direct `L omega cos` from each distant `light` (shadow-tested, through glass) plus
+    /// `(pi/N) sum` over `nsamples` cosine-distributed paths (`-ad`, none when `ab == 0`).
+    pub fn irradiance(
+        &self,
+        org: Vec3,
+        normal: Vec3,
+        nsamples: usize,
+        params: &TraceParams,
+        rng: &mut impl Rng,
+    ) -> (Color, SampleStats) {
+        let nc = self.ncomp;
+        let n = nsamples.max(1);
+        let mut stats = SampleStats::new(nc, n);
+        let normal = normal.normalize();
+        let mut e = Color::black(nc);
+        if normal.length() == 0.0 {
+            return (e, stats);
+        }
+        let p = org + normal * SENSOR_OFFSET;
+        let mut rays = 0;
+        for src in self.sources.lights() {
+            let c = normal.dot(src.dir);
+            if c <= 0.0 {
+                continue;
+            }
+            if let Some(t) = self.shadow(p, src.dir, &mut rays) {
+                e += src.color.scale(src.omega * c) * t;
+            }
+        }
+        if params.ab == 0 {
+            if let Some(av) = params.ambient_value {
+                e += av.scale(PI);
+            }
+            stats.rays = rays;
+            return (e, stats);
+        }
+        let m = (n as f64).sqrt().floor() as usize;
+        let mut ind = Color::black(nc);
+        let mut v = vec![0.0; nc];
+        for k in 0..n {
+            let (u, w) = strat_uv(k, n, m, rng);
+            let dir = Vec3::from(cosine_hemisphere(normal.to_array(), u, w));
+            let st = PathState {
+                beta: Color::splat(nc, 1.0),
+                sees_sources: false,
+                diffuse: 1,
+                depth: 1,
+            };
+            let l = self.walk(
+                Ray { org: p, dir },
+                st,
+                1.0 / n as f64,
+                params,
+                Mode::Values,
+                rng,
+                &mut rays,
+                &mut |_, _| {},
+            );
+            for (x, &y) in v.iter_mut().zip(l.as_slice()) {
+                *x = PI * y as f64;
+            }
+            stats.add(&v);
+            ind += l;
+        }
+        stats.rays = rays;
+        (e + ind.scale(PI / n as f64), stats)
+    }
+
+    /// Radiance along a view ray (one path sample; average many per pixel). The primary
+    /// ray sees distant `light` sources, glow skies and glow surfaces directly; further
+    /// vertices follow the same rules as [`Renderable::irradiance`]. Returns the value and
+    /// the number of rays cast.
+    pub fn radiance(
+        &self,
+        org: Vec3,
+        dir: Vec3,
+        params: &TraceParams,
+        rng: &mut impl Rng,
+    ) -> (Color, u64) {
+        let dir = dir.normalize();
+        let nc = self.ncomp;
+        if dir.length() == 0.0 {
+            return (Color::black(nc), 0);
+        }
+        let st = PathState {
+            beta: Color::splat(nc, 1.0),
+            sees_sources: true,
+            diffuse: 0,
+            depth: 0,
+        };
+        let mut rays = 0;
+        let l = self.walk(
+            Ray { org, dir },
+            st,
+            1.0,
+            params,
+            Mode::Values,
+            rng,
+            &mut rays,
+            &mut |_, _| {},
+        );
+        (l, rays)
+    }
+}
+
+/// An orthonormal frame around a unit normal (re-exported helper for drivers that jitter
+/// sensor directions).
+pub fn sensor_frame(normal: Vec3) -> (Vec3, Vec3) {
+    let (u, v) = frame(normal.normalize().to_array());
+    (Vec3::from(u), Vec3::from(v))
+}
