@@ -31,6 +31,7 @@ pub mod intake;
 pub mod options;
 pub mod output;
 pub mod run;
+pub mod traced;
 pub mod tracer;
 
 pub use options::Options;

@@ -16,17 +16,20 @@
 use super::intake::{self, Sky};
 use super::options::{IRRADIANCE_OFFSET, Options, RPICT_RES, Sampling};
 use super::output::{self, Sink};
+use super::traced::Traced;
 use super::tracer::{
-    Estimator, Mode, OpenSky, Quantity, Query, Rng, SunDisc, Tally, TraceParams, normalized,
+    Estimator, Mode, Quantity, Query, Rng, Stratum, SunDisc, Tally, TraceParams, normalized,
     record_rng,
 };
 use crate::error::{Error, Location, Result};
 use crate::formats::matrix::DataFormat;
 use crate::formats::sensors::{Ray, RayReader};
 use crate::formats::view::{Camera, View};
+use crate::material::ShadingOptions;
 use crate::radiometry::{Channels, RGB_PHOTOPIC, RGB_PHOTOPIC_ROUNDED, WHITE_EFFICACY};
 use crate::scene::LoadOptions;
 use crate::sky::SkyPatches;
+use crate::trace::Renderable;
 use rand::Rng as _;
 use rayon::prelude::*;
 use std::io::{BufRead, Write};
@@ -73,9 +76,14 @@ impl Job<'_> {
         tally.clear();
         let mut rng = record_rng(self.seed, index);
         loop {
-            for _ in 0..self.ad {
+            for k in 0..self.ad {
                 if let Some(q) = query(&mut rng) {
-                    self.estimator.sample(&q, &self.mode, &mut rng, tally);
+                    let stratum = Stratum {
+                        index: k,
+                        count: self.ad,
+                    };
+                    self.estimator
+                        .sample(&q, &self.mode, stratum, &mut rng, tally);
                 }
                 tally.end_sample();
             }
@@ -137,12 +145,14 @@ pub fn main(opts: &Options, view: Option<View>, command: &[String]) -> Result<()
     let mut lopts = LoadOptions::from_env();
     lopts.allow_exec &= !opts.no_exec;
     let intake = intake::load(&opts.scene, &lopts)?;
-    if let Some(s) = intake.first_surface() {
-        return Err(Error::Usage(format!(
-            "{s}: the tracer is not available yet; only open-sky scenes (sky and sun \
-             sources, no surfaces) can be computed"
-        )));
-    }
+    // Compile the surfaces (materials through modifier chains, one BVH) before any input
+    // is read: unsupported primitives stop here with file:line.
+    let shading = ShadingOptions {
+        dj: sampling.dj,
+        st: sampling.st,
+        ..ShadingOptions::rcontrib()
+    };
+    let renderable = Renderable::compile(&intake.scene, &channels, &shading)?;
 
     let patches = opts.mf.map(SkyPatches::new);
     let suns = match &opts.suns {
@@ -163,7 +173,7 @@ pub fn main(opts: &Options, view: Option<View>, command: &[String]) -> Result<()
     };
 
     let params = trace_params(&sampling);
-    let estimator = OpenSky::new(params, channels.ncomp);
+    let estimator = Traced::new(renderable, &params, sampling.ad);
     let weights = if channels.ncomp == 3 {
         RGB_PHOTOPIC.to_vec()
     } else {

@@ -142,8 +142,39 @@ pub struct TraceParams {
 pub trait Estimator: Sync {
     /// Trace ONE sample of record `query` and add its contributions with [`Tally::add`]
     /// (any number of calls, any columns, each `ncomp` values). The driver closes the sample
-    /// ([`Tally::end_sample`]) afterwards; adding nothing is a zero sample.
-    fn sample(&self, query: &Query, mode: &Mode, rng: &mut Rng, tally: &mut Tally);
+    /// ([`Tally::end_sample`]) afterwards; adding nothing is a zero sample. `stratum` is the
+    /// sample's index in its batch of `-ad` samples, for stratified first bounces (as
+    /// Radiance stratifies its ambient hemisphere).
+    fn sample(
+        &self,
+        query: &Query,
+        mode: &Mode,
+        stratum: Stratum,
+        rng: &mut Rng,
+        tally: &mut Tally,
+    );
+}
+
+/// Sample `index` of a batch of `count` (`-ad`) samples of one record.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Stratum {
+    pub index: usize,
+    pub count: usize,
+}
+
+impl Stratum {
+    /// A point of the unit square: jittered on an `m x m` grid (`m = floor(sqrt(count))`)
+    /// for the first `m^2` samples of a batch, uniform for the rest.
+    pub fn unit_square(&self, rng: &mut Rng) -> (f64, f64) {
+        let (a, b): (f64, f64) = (rng.random(), rng.random());
+        let m = (self.count as f64).sqrt().floor() as usize;
+        if self.index < m * m {
+            let (i, j) = (self.index / m, self.index % m);
+            ((i as f64 + a) / m as f64, (j as f64 + b) / m as f64)
+        } else {
+            (a, b)
+        }
+    }
 }
 
 /// Per-record accumulators: channel sums per column and, per column, the sum of squared
@@ -328,7 +359,7 @@ impl OpenSky {
 }
 
 impl Estimator for OpenSky {
-    fn sample(&self, q: &Query, mode: &Mode, rng: &mut Rng, tally: &mut Tally) {
+    fn sample(&self, q: &Query, mode: &Mode, _stratum: Stratum, rng: &mut Rng, tally: &mut Tally) {
         match (q.quantity, mode) {
             (Quantity::Irradiance, Mode::Sky { patches, .. }) => {
                 if self.params.ab == 0 {

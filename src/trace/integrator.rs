@@ -485,6 +485,76 @@ impl Renderable {
     }
 }
 
+impl Renderable {
+    /// One path sample for drivers that loop over samples themselves (`rdc`'s estimator):
+    /// a path from `org` along unit `dir`, either leaving a sensor (`from_sensor`: the first
+    /// sample counts as diffuse bounce 1 and does not see sources, as an ambient sample of
+    /// rcontrib/rtrace) or a primary view ray. `w0` is the path's starting weight for `-lw`
+    /// roulette (Radiance: 1/`-ad` for ambient samples, 1 for view rays). In coefficient mode
+    /// `escape(dir, throughput)` is called for every escape into a distant glow; in value
+    /// mode the radiance found is returned. Returns the value and the rays cast.
+    #[allow(clippy::too_many_arguments)]
+    pub fn path_sample(
+        &self,
+        org: Vec3,
+        dir: Vec3,
+        from_sensor: bool,
+        coefficients: bool,
+        w0: f64,
+        params: &TraceParams,
+        rng: &mut impl Rng,
+        escape: &mut dyn FnMut(Vec3, Color),
+    ) -> (Color, u64) {
+        let nc = self.ncomp;
+        let st = PathState {
+            beta: Color::splat(nc, 1.0),
+            sees_sources: !from_sensor,
+            diffuse: u32::from(from_sensor),
+            depth: u32::from(from_sensor),
+        };
+        let mode = if coefficients {
+            Mode::Coefficients
+        } else {
+            Mode::Values
+        };
+        let mut rays = 0;
+        let l = self.walk(
+            Ray { org, dir },
+            st,
+            w0,
+            params,
+            mode,
+            rng,
+            &mut rays,
+            escape,
+        );
+        (l, rays)
+    }
+
+    /// Transmission from `org` towards the distant direction `dir` through everything in
+    /// the way (glass passes, opaque surfaces block: `None`), for sun coefficients.
+    pub fn transmission_towards(&self, org: Vec3, dir: Vec3) -> Option<Color> {
+        let mut rays = 0;
+        self.shadow(org, dir.normalize(), &mut rays)
+    }
+
+    /// The direct part of [`Renderable::irradiance`]: `L omega cos` from every distant
+    /// `light` source, shadow-tested, at a sensor point already offset from its surface.
+    pub fn direct_irradiance(&self, p: Vec3, normal: Vec3) -> Color {
+        let mut e = Color::black(self.ncomp);
+        let mut rays = 0;
+        for src in self.sources.lights() {
+            let c = normal.dot(src.dir);
+            if c > 0.0 {
+                if let Some(t) = self.shadow(p, src.dir, &mut rays) {
+                    e += src.color.scale(src.omega * c) * t;
+                }
+            }
+        }
+        e
+    }
+}
+
 /// An orthonormal frame around a unit normal (re-exported helper for drivers that jitter
 /// sensor directions).
 pub fn sensor_frame(normal: Vec3) -> (Vec3, Vec3) {

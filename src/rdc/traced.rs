@@ -1,0 +1,188 @@
+//! The path-traced estimator: `rdc`'s [`Estimator`] over a compiled scene
+//! ([`crate::trace::Renderable`]), one Monte Carlo sample per call.
+//!
+//! | mode | query | one sample is |
+//! |---|---|---|
+//! | sky coefficients (`-m`) | `-I` sensor | a cosine-distributed hemisphere path (rcontrib `-I+ -V-`: the sample's value is `pi x` the throughput of the path that escapes into patch `bin_of(dir)`) |
+//! | sky coefficients (`-m`) | view ray | the throughput of the primary ray's path into its escape patch |
+//! | direct-only (`-m --direct`) | as above | the same with `-ab 1` (rcontrib's C_dcd: patches seen directly or through specular transmission, no inter-reflection) |
+//! | sun coefficients (`--suns`) | `-I` sensor | `cos x omega x` transmission towards each sun (glass passes, opaque blocks): `-ab 0` sun coefficients, as honeybee's direct-sunlight pass |
+//! | values | `-I` sensor | direct sun (`L omega cos`, shadow-tested) + `pi x` one ambient path (rtrace `-I -aa 0 -as 0`) |
+//! | values | view ray | one path's radiance (sees sun, sky and glows directly) |
+//!
+//! Paths start with weight `1/-ad` for `-lw` roulette as Radiance's ambient samples do, so
+//! `-lw` has its Radiance meaning. Sensor points are offset `1e-4` along their normal
+//! (`eval_irrad`).
+
+use super::tracer::{
+    Estimator, Mode, Quantity, Query, Rng, Stratum, Tally, TraceParams as DriverParams,
+};
+use crate::geometry::Vec3;
+use crate::material::Color;
+use crate::material::sampling::cosine_hemisphere;
+use crate::trace::integrator::SENSOR_OFFSET;
+use crate::trace::{Renderable, TraceParams};
+use std::f64::consts::PI;
+
+pub struct Traced {
+    scene: Renderable,
+    params: TraceParams,
+    direct_params: TraceParams,
+    /// Starting path weight for `-lw` roulette (1/`-ad`).
+    w0: f64,
+}
+
+impl Traced {
+    pub fn new(scene: Renderable, p: &DriverParams, ad: usize) -> Traced {
+        // `-lr N`: at most |N| reflections (Radiance caps the depth for negative N too;
+        // 0 means no cap, where 10 guards against endless mirror pairs).
+        let max_depth = if p.lr == 0 { 10 } else { p.lr.unsigned_abs() };
+        let params = TraceParams {
+            ab: p.ab,
+            lw: p.lw,
+            max_depth,
+            ambient_value: None,
+        };
+        Traced {
+            scene,
+            params,
+            direct_params: TraceParams {
+                ab: p.ab.min(1),
+                ..params
+            },
+            w0: 1.0 / ad.max(1) as f64,
+        }
+    }
+}
+
+fn add_color(tally: &mut Tally, col: usize, c: &Color, scale: f64, buf: &mut Vec<f64>) {
+    buf.clear();
+    buf.extend(c.as_slice().iter().map(|&v| v as f64 * scale));
+    tally.add(col, buf);
+}
+
+impl Estimator for Traced {
+    fn sample(&self, q: &Query, mode: &Mode, stratum: Stratum, rng: &mut Rng, tally: &mut Tally) {
+        let mut buf = Vec::with_capacity(tally.ncomp());
+        let n = Vec3::from(q.dir);
+        match (q.quantity, mode) {
+            (
+                Quantity::Irradiance,
+                Mode::Sky {
+                    patches,
+                    direct_only,
+                },
+            ) => {
+                let params = if *direct_only {
+                    &self.direct_params
+                } else {
+                    &self.params
+                };
+                if params.ab == 0 {
+                    return; // -ab 0: a sensor sees no glow (radiance-notes 12.8).
+                }
+                let org = Vec3::from(q.org) + n.normalize() * SENSOR_OFFSET;
+                let d = {
+                    let (u, v) = stratum.unit_square(rng);
+                    Vec3::from(cosine_hemisphere(n.normalize().to_array(), u, v))
+                };
+                let mut hits: Vec<(usize, Color)> = Vec::new();
+                self.scene
+                    .path_sample(org, d, true, true, self.w0, params, rng, &mut |e, beta| {
+                        hits.push((patches.bin_of(e.to_array()), beta));
+                    });
+                for (bin, beta) in hits {
+                    add_color(tally, bin, &beta, PI, &mut buf);
+                }
+            }
+            (
+                Quantity::Radiance,
+                Mode::Sky {
+                    patches,
+                    direct_only,
+                },
+            ) => {
+                let params = if *direct_only {
+                    &self.direct_params
+                } else {
+                    &self.params
+                };
+                let mut hits: Vec<(usize, Color)> = Vec::new();
+                self.scene.path_sample(
+                    Vec3::from(q.org),
+                    n,
+                    false,
+                    true,
+                    1.0,
+                    params,
+                    rng,
+                    &mut |e, beta| {
+                        hits.push((patches.bin_of(e.to_array()), beta));
+                    },
+                );
+                for (bin, beta) in hits {
+                    add_color(tally, bin, &beta, 1.0, &mut buf);
+                }
+            }
+            (Quantity::Irradiance, Mode::Suns { suns }) => {
+                let org = Vec3::from(q.org) + n.normalize() * SENSOR_OFFSET;
+                for (i, s) in suns.iter().enumerate() {
+                    let c = n.normalize().dot(Vec3::from(s.dir));
+                    if c <= 0.0 {
+                        continue;
+                    }
+                    if let Some(t) = self.scene.transmission_towards(org, Vec3::from(s.dir)) {
+                        add_color(tally, i, &t, c * s.solid_angle, &mut buf);
+                    }
+                }
+            }
+            (Quantity::Radiance, Mode::Suns { suns }) => {
+                // A view ray's sun coefficient: 1 when it looks into the disc unobstructed.
+                if let Some(i) = suns
+                    .iter()
+                    .position(|s| n.normalize().dot(Vec3::from(s.dir)) >= s.cos_half)
+                {
+                    if let Some(t) = self.scene.transmission_towards(Vec3::from(q.org), n) {
+                        add_color(tally, i, &t, 1.0, &mut buf);
+                    }
+                }
+            }
+            (Quantity::Irradiance, Mode::Values { .. }) => {
+                let nn = n.normalize();
+                let org = Vec3::from(q.org) + nn * SENSOR_OFFSET;
+                let mut e = self.scene.direct_irradiance(org, nn);
+                if self.params.ab > 0 {
+                    let d = {
+                        let (u, v) = stratum.unit_square(rng);
+                        Vec3::from(cosine_hemisphere(n.normalize().to_array(), u, v))
+                    };
+                    let (l, _) = self.scene.path_sample(
+                        org,
+                        d,
+                        true,
+                        false,
+                        self.w0,
+                        &self.params,
+                        rng,
+                        &mut |_, _| {},
+                    );
+                    e += l.scale(PI);
+                }
+                add_color(tally, 0, &e, 1.0, &mut buf);
+            }
+            (Quantity::Radiance, Mode::Values { .. }) => {
+                let (l, _) = self.scene.path_sample(
+                    Vec3::from(q.org),
+                    n,
+                    false,
+                    false,
+                    1.0,
+                    &self.params,
+                    rng,
+                    &mut |_, _| {},
+                );
+                add_color(tally, 0, &l, 1.0, &mut buf);
+            }
+        }
+    }
+}
