@@ -5,6 +5,7 @@
 #
 # Makefiles are how our users chain Radiance tools; this one is also a worked example.
 
+SHELL    := /bin/bash
 PYTHON   ?= python3
 CARGO    ?= cargo
 OUT      ?= out
@@ -24,40 +25,61 @@ build:
 	$(CARGO) build --release --bins
 
 # The main job: a climate-based daylight study of the example room with the real London
-# weather file. Sky matrix (rspecsky, the gendaymtx counterpart) x daylight coefficients
-# (rmtx, the dctimestep/rmtxop counterpart) -> illuminance -> annual metrics and maps
-# (rmetrics). Until rdc traces rooms (issue 3), the coefficients are real rcontrib's, committed
-# in radiance-fixtures/ (-ab 5 -ad 10000, mean of 3 runs); set DC=... to use your own.
-DC       ?= $(FIX)/dc/office_m1.mtx
-MAPS     := TAI_klxh DA UDI_a sDA
+# weather file, with our tools only:
+#   rdc       daylight coefficients of the 165 sensors (sky patches, MF 1) and sun
+#             coefficients (suns at the Reinhart MF 6 patch centres, direct only)
+#   rspecsky  annual Perez sky matrix (gendaymtx counterpart) and the sun-only matrix
+#   rmtx      coefficients x skies -> illuminance (dctimestep/rmtxop counterpart)
+#   rmetrics  TAI, UDI, DA, sDA, ASE per sensor and room, JSON and falsecolor maps
+# Settings: rcontrib-like -ab 5 -ad 10000 -lw 1e-5 (radiance-fixtures/README.md).
+RDC_OPTS ?= -ab 5 -ad 10000 -lw 1e-5 -s 1
+SENSORS  := $(ROOM)/sensors.pts
+MAPS     := TAI_klxh DA UDI_a sDA ASE
 
 example: build
 	@mkdir -p $(OUT)
-	$(BIN)/rinfo $(ROOM)/room.rad $(ROOM)/sensors.pts $(EPW)
+	$(BIN)/rinfo $(ROOM)/room.rad $(SENSORS) $(EPW)
+	$(BIN)/rdc -I $(RDC_OPTS) -m 1 -faf $(ROOM)/room.rad $(ROOM)/skydome.rad < $(SENSORS) > $(OUT)/dc.mtx
+	$(BIN)/rdc -I --suns 6 -ad 1 -faf $(ROOM)/room.rad $(ROOM)/skydome.rad < $(SENSORS) > $(OUT)/sun.mtx
 	$(BIN)/rspecsky -m 1 -of $(EPW) > $(OUT)/sky.smx
-	$(BIN)/rmtx -ff -c 47.4 119.9 11.6 $(DC) $(OUT)/sky.smx > $(OUT)/illuminance.mtx
-	$(BIN)/rmetrics -w $(EPW) --pts $(ROOM)/sensors.pts --json $(OUT)/metrics.json \
-	    -o $(OUT)/metrics.tsv $(OUT)/illuminance.mtx
+	$(BIN)/rspecsky -m 6 -5 0.533 -d -of $(EPW) > $(OUT)/sky_sun.smx
+	$(BIN)/rmtx -ff -c 47.4 119.9 11.6 $(OUT)/dc.mtx $(OUT)/sky.smx > $(OUT)/illuminance.mtx
+	$(BIN)/rmtx -ff -c 47.4 119.9 11.6 $(OUT)/sun.mtx $(OUT)/sky_sun.smx > $(OUT)/direct_sun.mtx
+	@rm -f $(OUT)/sky_sun.smx
+	$(BIN)/rmetrics -w $(EPW) --pts $(SENSORS) --direct-sun $(OUT)/direct_sun.mtx \
+	    --json $(OUT)/metrics.json -o $(OUT)/metrics.tsv $(OUT)/illuminance.mtx
 	@for m in $(MAPS); do \
-	    $(BIN)/rmetrics -w $(EPW) --pts $(ROOM)/sensors.pts --map $$m --png $(OUT)/$$m.png \
-	        $(OUT)/illuminance.mtx > /dev/null || exit 1; done
+	    $(BIN)/rmetrics -w $(EPW) --pts $(SENSORS) --direct-sun $(OUT)/direct_sun.mtx \
+	        --map $$m --png $(OUT)/$$m.png $(OUT)/illuminance.mtx > /dev/null || exit 1; done
 	@echo "Room means (occupied 8-18 h, every day), also in $(OUT)/metrics.tsv and .json:"
 	@grep -v '^#' $(OUT)/metrics.tsv | head -n 1; grep '^room' $(OUT)/metrics.tsv
 	@echo "Maps: $(foreach m,$(MAPS),$(OUT)/$(m).png)"
 
-# The same study with real Radiance (pyradiance): epw2wea, gendaymtx, dctimestep, rmtxop on
-# the same coefficients, then both results side by side (seed Appendix A errors).
-radiance-example: build radiance
+# The same study with real Radiance (pyradiance): rcontrib daylight coefficients, epw2wea,
+# gendaymtx, dctimestep, rmtxop; metrics of both side by side (seed Appendix A errors) and
+# the per-sensor TAI difference. Run `make` first.
+RC_OPTS ?= -ab 5 -ad 10000 -lw 1e-5
+radiance-example: radiance
+	@test -f $(OUT)/metrics.tsv || { echo "run 'make' first"; exit 1; }
 	@mkdir -p $(OUT)/radiance
 	@RB=$$($(PYTHON) -c "import pyradiance,os;print(os.path.dirname(pyradiance.__file__))"); \
 	export PATH="$$RB/bin:$$PATH" RAYPATH=".:$$RB/lib"; set -e; \
+	start=$$(date +%s.%N); \
+	oconv $(ROOM)/room.rad $(FIX)/scenes/sky_glow360.rad > $(OUT)/radiance/room.oct; \
+	rcontrib -n 2 -I+ $(RC_OPTS) -faf -y $$(wc -l < $(SENSORS)) -e MF:1 -f reinhart.cal \
+	    -b rbin -bn Nrbins -m skyglow $(OUT)/radiance/room.oct < $(SENSORS) > $(OUT)/radiance/dc.mtx; \
 	epw2wea $(EPW) $(OUT)/radiance/site.wea; \
 	gendaymtx -m 1 -of $(OUT)/radiance/site.wea > $(OUT)/radiance/sky.smx; \
-	dctimestep $(DC) $(OUT)/radiance/sky.smx | rmtxop -ff -c 47.4 119.9 11.6 - > $(OUT)/radiance/illuminance.mtx
-	$(BIN)/rmetrics -w $(EPW) -o $(OUT)/radiance/metrics.tsv $(OUT)/radiance/illuminance.mtx
-	@echo "ours:    $$(grep '^room' $(OUT)/metrics.tsv)"
+	dctimestep $(OUT)/radiance/dc.mtx $(OUT)/radiance/sky.smx | rmtxop -ff -c 47.4 119.9 11.6 - \
+	    > $(OUT)/radiance/illuminance.mtx; \
+	echo "Radiance pipeline wall time: $$(echo "$$(date +%s.%N) - $$start" | bc) s"
+	$(BIN)/rmetrics -w $(EPW) --pts $(SENSORS) -o $(OUT)/radiance/metrics.tsv $(OUT)/radiance/illuminance.mtx
+	@echo "ours:     $$(grep '^room' $(OUT)/metrics.tsv)"
 	@echo "Radiance: $$(grep '^room' $(OUT)/radiance/metrics.tsv)"
 	$(BIN)/rmetrics compare $(OUT)/radiance/metrics.tsv $(OUT)/metrics.tsv
+	@paste <(grep '^[0-9]' $(OUT)/metrics.tsv | cut -f5) <(grep '^[0-9]' $(OUT)/radiance/metrics.tsv | cut -f5) \
+	  | awk '{d=($$1-$$2)/$$2; if(d<0)d=-d; print d*100}' | sort -g \
+	  | awk '{a[NR]=$$1} END {printf "per-sensor TAI |ours-Radiance|/Radiance: median %.2f %%, p95 %.2f %%, max %.2f %% (%d sensors)\n", a[int((NR+1)/2)], a[int(NR*0.95)], a[NR], NR}'
 
 # Installs real Radiance (pyradiance) when missing, then runs every test: unit, format
 # round trips, malformed input, and live interop with the real Radiance binaries.
