@@ -218,7 +218,7 @@ fn real_main() -> Result<(), Error> {
     }
     let mut wopts = WriteOptions::new(format);
     wopts.header = !cli.no_header;
-    wopts.seekable = stdout_is_file();
+    wopts.seekable = rdaylight::cli::stdout_is_file();
     wopts.ascii_digits = if all_double {
         DOUBLE_DIGITS
     } else {
@@ -273,23 +273,4 @@ fn real_main() -> Result<(), Error> {
         eprintln!("\rrmtx: {done} rows");
     }
     Ok(())
-}
-
-/// `FORMAT=` is padded only in seekable output, as Radiance's `fputformat` (which pads when
-/// `ftell` works): true when standard output is a regular file.
-fn stdout_is_file() -> bool {
-    #[cfg(unix)]
-    {
-        use std::os::fd::AsFd;
-        let out = std::io::stdout();
-        out.as_fd()
-            .try_clone_to_owned()
-            .map(std::fs::File::from)
-            .and_then(|f| f.metadata())
-            .is_ok_and(|m| m.is_file())
-    }
-    #[cfg(not(unix))]
-    {
-        false
-    }
 }

@@ -244,7 +244,7 @@ fn real_main() -> Result<(), Error> {
     header.set("LATLONG", format!(" {}", latlong(&weather)));
     let mut wopts = WriteOptions::new(format);
     wopts.header = !cli.no_header;
-    wopts.seekable = stdout_is_file();
+    wopts.seekable = rdaylight::cli::stdout_is_file();
     wopts.ascii_digits = if format == DataFormat::Double {
         DOUBLE_DIGITS
     } else {
@@ -411,23 +411,4 @@ fn point_sky(m: &clap::ArgMatches, cli: &Cli) -> Result<(), Error> {
     out.write_all(text.as_bytes())
         .and_then(|_| out.flush())
         .map_err(|e| Error::io("<stdout>", e))
-}
-
-/// `FORMAT=` is padded only in seekable output, as Radiance's `fputformat`: true when
-/// standard output is a regular file.
-fn stdout_is_file() -> bool {
-    #[cfg(unix)]
-    {
-        use std::os::fd::AsFd;
-        std::io::stdout()
-            .as_fd()
-            .try_clone_to_owned()
-            .map(std::fs::File::from)
-            .and_then(|f| f.metadata())
-            .is_ok_and(|m| m.is_file())
-    }
-    #[cfg(not(unix))]
-    {
-        false
-    }
 }

@@ -25,6 +25,26 @@ pub fn show_progress() -> bool {
     std::io::stderr().is_terminal()
 }
 
+/// True when standard output is a regular file. Radiance's `fputformat` pads `FORMAT=` so
+/// binary data starts aligned only when `ftell` works (a seekable file), never in pipes; our
+/// writers do the same, so their bytes match Radiance's in both cases.
+pub fn stdout_is_file() -> bool {
+    #[cfg(unix)]
+    {
+        use std::os::fd::AsFd;
+        std::io::stdout()
+            .as_fd()
+            .try_clone_to_owned()
+            .map(std::fs::File::from)
+            .and_then(|f| f.metadata())
+            .is_ok_and(|m| m.is_file())
+    }
+    #[cfg(not(unix))]
+    {
+        false
+    }
+}
+
 /// Write a file atomically: the data goes to a temporary file beside the target which is
 /// renamed over it only once everything was written, so a failed run leaves nothing
 /// half-written behind.

@@ -71,25 +71,6 @@ pub fn header(
     h
 }
 
-/// True when standard output is a regular file (then `FORMAT=` is padded, as Radiance's
-/// `fputformat` pads when `ftell` works).
-pub fn stdout_is_file() -> bool {
-    #[cfg(unix)]
-    {
-        use std::os::fd::AsFd;
-        std::io::stdout()
-            .as_fd()
-            .try_clone_to_owned()
-            .map(std::fs::File::from)
-            .and_then(|f| f.metadata())
-            .is_ok_and(|m| m.is_file())
-    }
-    #[cfg(not(unix))]
-    {
-        false
-    }
-}
-
 /// Where rows go.
 pub enum Sink<W: Write> {
     /// rcontrib-style ascii (`%.6e\t`).

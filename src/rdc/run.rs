@@ -195,7 +195,7 @@ pub fn main(opts: &Options, view: Option<View>, command: &[String]) -> Result<()
         .map_err(|e| Error::Usage(format!("-n: cannot start threads: {e}")))?;
     let out_channels = if opts.oi { Channels::mono() } else { channels };
     let stdout = std::io::stdout();
-    let seekable = super::output::stdout_is_file();
+    let seekable = crate::cli::stdout_is_file();
     pool.install(|| match view {
         Some(v) => picture(opts, &job, v, command, out_format, out_channels, seekable),
         None => {
