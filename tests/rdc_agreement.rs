@@ -106,3 +106,89 @@ fn office_daylight_coefficients_agree_with_rcontrib() {
     assert!(p95 <= s_p95 + 0.05, "p95 {p95}");
     assert!(bias.abs() <= 0.01, "bias {bias}");
 }
+
+/// An angular fisheye of the office under the overcast Perez sky (the fixture's view and
+/// sky), at 64 x 64 with 256 paths per pixel, against real rpict's 256 x 256 picture
+/// (`-ab 3 -ad 1024 -aa 0.1`): vertical illuminance (real `evalglare -V` on both pictures)
+/// and mean luminance within 3 % (issue 3's criterion). A per-pixel log10 luminance ratio map
+/// (ours over rpict's, 4 x 4 averaged) is written as a test artefact to
+/// `target/test-artefacts/rdc_office_overcast_window_logratio.hdr`.
+#[test]
+fn office_fisheye_agrees_with_rpict() {
+    if !common::have_radiance("evalglare") {
+        return;
+    }
+    use rdaylight::formats::picture::{Picture, PixelFormat};
+    let fx = common::repo().join("radiance-fixtures");
+    let view = "-vta -vp 3 1.5 1.2 -vd 0 -1 0 -vu 0 0 1 -vh 180 -vv 180";
+    let mut args: Vec<&str> = view.split(' ').collect();
+    args.extend([
+        "-x",
+        "64",
+        "-y",
+        "64",
+        "-ab",
+        "3",
+        "-ad",
+        "256",
+        "-s",
+        "3",
+        "scenes/office.rad",
+        "skies/overcast_gendaylit.rad",
+        "skies/skyglow.rad",
+    ]);
+    let ours = common::run_ok(common::ours("rdc").current_dir(&fx).args(&args), b"");
+    let t = common::tmpdir();
+    let ours_path = t.path().join("ours.hdr");
+    std::fs::write(&ours_path, &ours).unwrap();
+    let reference = fx.join("pictures/office_overcast_window.hdr");
+    let ev = |p: &std::path::Path| -> f64 {
+        let out = common::run(common::radiance("evalglare").arg("-V").arg(p), b"");
+        String::from_utf8_lossy(&out.stdout).trim().parse().unwrap()
+    };
+    let (ev_ours, ev_ref) = (ev(&ours_path), ev(&reference));
+    let a = Picture::open(&ours_path).unwrap();
+    let b = Picture::open(&reference).unwrap();
+    let mean = |p: &Picture| {
+        let mut s = 0.0;
+        for y in 0..p.height {
+            for x in 0..p.width {
+                s += p.luminance(x, y);
+            }
+        }
+        s / (p.width * p.height) as f64
+    };
+    let (l_ours, l_ref) = (mean(&a), mean(&b));
+    eprintln!(
+        "rdc vs rpict fisheye: Ev {ev_ours:.1} vs {ev_ref:.1} lx ({:+.2} %), mean L {l_ours:.1} vs {l_ref:.1} cd/m2 ({:+.2} %)",
+        100.0 * (ev_ours / ev_ref - 1.0),
+        100.0 * (l_ours / l_ref - 1.0)
+    );
+    assert!((ev_ours / ev_ref - 1.0).abs() <= 0.03);
+    assert!((l_ours / l_ref - 1.0).abs() <= 0.03);
+    // Artefact: log10(L_ours / L_rpict) per 64 x 64 pixel (rpict averaged over 4 x 4).
+    let mut diff = Picture::new(
+        64,
+        64,
+        rdaylight::radiometry::Channels::rgb(),
+        PixelFormat::Rgbe,
+    );
+    for y in 0..64 {
+        for x in 0..64 {
+            let mut r = 0.0;
+            for j in 0..4 {
+                for i in 0..4 {
+                    r += b.luminance(4 * x + i, 4 * y + j) / 16.0;
+                }
+            }
+            let d = (a.luminance(x, y).max(1e-6) / r.max(1e-6)).log10() as f32;
+            // Positive in red, negative in blue, so the map reads at a glance.
+            let px = &mut diff.data[3 * (64 * y + x)..3 * (64 * y + x) + 3];
+            px.copy_from_slice(&[d.max(0.0), 0.0, (-d).max(0.0)]);
+        }
+    }
+    let dir = common::repo().join("target/test-artefacts");
+    std::fs::create_dir_all(&dir).unwrap();
+    diff.save(dir.join("rdc_office_overcast_window_logratio.hdr"), true)
+        .unwrap();
+}
