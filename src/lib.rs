@@ -15,6 +15,8 @@
 //! - [`radiometry`]: channel layouts (RGB or N spectral bands) shared by every buffer.
 //! - [`info`]: summaries of any file (what `rinfo` prints).
 //! - [`geometry`]: shapes, rays, polygon triangulation and the scene BVH for the ray tracer.
+//! - [`uplift`]: spectral uplifting (RGB -> smooth bounded reflectance; Jakob & Hanika and a
+//!   learned basis), its validation on measured spectra and melanopic effect.
 //! - [`cli`]: what the thin binaries in `bin/` share (exit codes, progress, atomic output).
 
 pub mod cli;
@@ -28,5 +30,6 @@ pub mod radiometry;
 pub mod rdc;
 pub mod scene;
 pub mod sky;
+pub mod uplift;
 
 pub use error::{Error, Location, Result};
