@@ -173,6 +173,11 @@ fn real_main() -> Result<(), Error> {
                     "--name must be one word without white space, got '{name}'"
                 )));
             }
+            if ![r, g, b].iter().all(|v| v.is_finite()) {
+                return Err(Error::Usage(format!(
+                    "R G B must be finite numbers, got {r} {g} {b}"
+                )));
+            }
             emit(&mut out, &[(name, [r, g, b])], &common)?;
         }
         Command::Batch { input, common } => {
@@ -186,6 +191,9 @@ fn real_main() -> Result<(), Error> {
             }
             let shown = if input == "-" { "<stdin>" } else { &input };
             let items = parse_batch(&text, shown)?;
+            if items.is_empty() {
+                return Err(Error::Usage(format!("no 'name R G B' lines in {shown}")));
+            }
             emit(&mut out, &items, &common)?;
         }
         Command::Validate => {

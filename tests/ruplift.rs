@@ -262,6 +262,16 @@ fn cli_outputs_and_errors() {
         b"a 0.5 0.4 0.3\nb 0.2 0.6 0.9\n",
     );
     assert_eq!(out.status.code(), Some(1));
+    let out = common::run(common::ours("ruplift").args(["batch"]), b"# nothing\n");
+    assert_eq!(out.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("no 'name R G B' lines in <stdin>"), "{err}");
+    let out = common::run(
+        common::ours("ruplift").args(["rgb", "nan", "0.4", "0.3"]),
+        b"",
+    );
+    assert_eq!(out.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("must be finite"));
     let out = common::run_ok(
         common::ours("ruplift").args(["rgb", "0.5", "0.4", "0.3", "--format", "specfile"]),
         b"",
