@@ -60,6 +60,9 @@ struct Common {
 enum Command {
     /// Uplift one colour.
     Rgb {
+        /// Red, green, blue: linear reflectance-like values in 0..1 for `radiance` and
+        /// `srgb-linear`, encoded 0..1 values for `srgb`. Values outside the gamut are
+        /// accepted (closest spectrum, warning on stderr).
         #[arg(allow_negative_numbers = true)]
         r: f64,
         #[arg(allow_negative_numbers = true)]
