@@ -16,6 +16,8 @@
 //! - [`info`]: summaries of any file (what `rinfo` prints).
 //! - [`geometry`]: shapes, rays, polygon triangulation and the scene BVH for the ray tracer.
 //! - [`trace`]: the Monte Carlo path tracer (daylight coefficients, irradiance, radiance).
+//! - [`uplift`]: spectral uplifting (RGB -> smooth bounded reflectance; Jakob & Hanika and a
+//!   learned basis), its validation on measured spectra and melanopic effect.
 //! - [`cli`]: what the thin binaries in `bin/` share (exit codes, progress, atomic output).
 
 pub mod cli;
@@ -30,5 +32,6 @@ pub mod rdc;
 pub mod scene;
 pub mod sky;
 pub mod trace;
+pub mod uplift;
 
 pub use error::{Error, Location, Result};
