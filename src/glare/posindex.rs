@@ -115,7 +115,12 @@ mod tests {
             posindex(d, up, [a.sin(), a.cos(), 0.0], PosModel::GuthIwata)
         };
         assert!(off(10.0) > 1.0 && off(30.0) > off(10.0) && off(60.0) > off(30.0));
-        assert_eq!(off(89.0), 16.0);
+        // straight up (τ = 0) at 80°: exp(33.98e−3·80 + 21e−5·6400) = 105, capped at 16
+        let a = 80f64.to_radians();
+        assert_eq!(
+            posindex(d, up, [0.0, a.cos(), a.sin()], PosModel::GuthIwata),
+            16.0
+        );
         // Guth at τ = 90° (horizontal), σ = 30°: exp((35.2 − 28.7001 − 1.22e−20)·0.03 +
         // (21 + 24.0003 − 24.0003)·1e−5·900)
         let tau = 90.0;
