@@ -108,7 +108,8 @@ pub fn detailed(e: &Evaluation) -> String {
     ];
     s += "dgp,av_lum,E_v,lum_backg,E_v_dir,dgi,ugr,vcp,cgi,lum_sources,omega_sources,Lveil,Lveil_cie,dgr,ugp,ugr_exp,dgi_mod,av_lum_pos,av_lum_pos2,med_lum,med_lum_pos,med_lum_pos2,ugp2:";
     for x in v {
-        s += &format!(" {x:.6}");
+        // + 0.0 turns −0 (an empty f64 sum) into 0, which C prints without a sign
+        s += &format!(" {:.6}", x + 0.0);
     }
     s.push('\n');
     s
