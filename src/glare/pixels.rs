@@ -12,7 +12,12 @@
 //! - solid angle of `(x, y)`: evalglare's `pict_get_sangle` calls `pix2loc` **without** that
 //!   flip, so it measures the pixel mirrored top-to-bottom, picture row `y`. For views
 //!   symmetric about the horizontal axis (every fisheye, unshifted perspectives) this is the
-//!   same number; for lifted views (`-vl`) it is evalglare's quirk, kept for agreement;
+//!   same number; for lifted views (`-vl`) it is evalglare's quirk, kept for agreement.
+//!   The area is [`Camera::pixel_solid_angle`]'s (two Van Oosterom-Strackee triangles):
+//!   identical to evalglare's Girard sum to printed precision for `-vta` and `-vtv`; on a
+//!   `-vth` rim, pixels whose corner lies on the circle to within rounding are counted by
+//!   evalglare and not by us (or the reverse): 8 of 31016 pixels of a 200² uniform picture,
+//!   −0.04 % of E_v; measured −0.003 % to −0.02 % on the `-vth` fixtures;
 //! - in view: the pixel has a ray (`pict_get_hangle` succeeds; outside a `-vth` circle it
 //!   does not);
 //! - valid: in view, solid angle > 0, and for `-vta` the centre ray looks forward
