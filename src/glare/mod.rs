@@ -16,6 +16,13 @@
 //! 5. [`metrics`]: DGP, DGI, UGR, VCP, CGI, Lveil and the others;
 //! 6. [`report`]: evalglare's output lines; [`check`]: the check picture.
 //!
+//! Known residuals: a source's direction (σ, τ, position index, Lveil) is taken at its
+//! centroid *truncated* to a pixel, as evalglare does; a centroid that is an integer in
+//! exact arithmetic (one- or two-pixel sources) can land one pixel apart when the last bits
+//! of the running means differ (seen once in 28 fixtures: Lveil 14088 vs 14479 on
+//! `furnished_clear_window`, every other printed metric equal). `-vth` rim pixels: see
+//! [`pixels`].
+//!
 //! Agreement with evalglare 3.06 is tested on the pictures of `radiance-fixtures/glare/`
 //! and `radiance-fixtures/pictures/` (`tests/rglare.rs`).
 

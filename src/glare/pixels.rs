@@ -17,7 +17,7 @@
 //!   identical to evalglare's Girard sum to printed precision for `-vta` and `-vtv`; on a
 //!   `-vth` rim, pixels whose corner lies on the circle to within rounding are counted by
 //!   evalglare and not by us (or the reverse): 8 of 31016 pixels of a 200² uniform picture,
-//!   −0.04 % of E_v; measured −0.003 % to −0.02 % on the `-vth` fixtures;
+//!   −0.04 % of E_v; measured −0.001 % to −0.024 % on the `-vth` fixtures;
 //! - in view: the pixel has a ray (`pict_get_hangle` succeeds; outside a `-vth` circle it
 //!   does not);
 //! - valid: in view, solid angle > 0, and for `-vta` the centre ray looks forward
@@ -149,7 +149,7 @@ const WHTEFFICACY: f64 = 179.0;
 /// `radiometry::RGB_PHOTOPIC`) still quotes 0.265074126, 0.670114631, 0.064811243 (a D65-era
 /// white); the two sets agree for grey pixels but differ by ~1e−7 relative on coloured
 /// ones, which shows in evalglare's printed digits (measured on the furnished-room
-/// fixtures).
+/// fixtures; with these, luminances agree to ~1e−8).
 static CIE_RGB: std::sync::LazyLock<[f64; 3]> = std::sync::LazyLock::new(|| {
     let (xr, yr, xg, yg, xb, yb) = (0.640, 0.330, 0.290, 0.600, 0.150, 0.060);
     let (xw, yw) = (1.0 / 3.0, 1.0 / 3.0);
