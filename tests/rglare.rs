@@ -189,7 +189,13 @@ fn live_evalglare_agrees() {
         return;
     }
     let repo = common::repo();
-    let cases: [(&str, &[&str]); 5] = [
+    let along = "radiance-fixtures/glare/furnished_intermediate_along.hdr";
+    let cases: [(&str, &[&str]); 10] = [
+        (along, &["-s"]),
+        (along, &["-x"]),
+        (along, &["-t", "100", "60", "0.4"]),
+        (along, &["-P", "1"]),
+        (along, &["-q", "2"]),
         ("radiance-fixtures/glare/furnished_clear_window.hdr", &[]),
         ("radiance-fixtures/glare/office_clear_persp.hdr", &[]),
         (
