@@ -1,6 +1,7 @@
-//! (being written)
+//! `rglare`: glare evaluation of fisheye and perspective HDR pictures (DGP, DGI, UGR, VCP,
+//! CGI, Ev), evalglare 3.x compatible output. Everything lives in `rdaylight::glare`; see
+//! `rdaylight::glare::args` for the options.
 fn main() {
-    rdaylight::cli::run("rglare", || {
-        Err(rdaylight::Error::Usage("not implemented yet".into()))
-    })
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    rdaylight::cli::run("rglare", || rdaylight::glare::args::run(&args))
 }

@@ -9,6 +9,7 @@
 //! - [`scene`]: the `.rad` scene description: grammar, inline `!commands`, typed primitives.
 //! - [`sky`]: sky patch layouts, solar position, CIE (gensky) and Perez (gendaymtx) skies.
 //! - [`material`]: Radiance's materials for the path tracer (Ward, glass, mirror, sources).
+//! - [`glare`]: glare from fisheye/perspective pictures (DGP, DGI, UGR, ...; evalglare 3.x).
 //! - [`metrics`]: annual daylight metrics (TAI, UDI, DA, sDA, ASE), Appendix-A errors, maps.
 //! - [`rdc`]: the ray-tracing driver (rcontrib / rtrace -I / rpict counterpart) and its
 //!   tracer seam.
@@ -24,6 +25,7 @@ pub mod cli;
 pub mod error;
 pub mod formats;
 pub mod geometry;
+pub mod glare;
 pub mod info;
 pub mod material;
 pub mod metrics;
