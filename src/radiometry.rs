@@ -15,9 +15,14 @@ pub const DEFAULT_SPLITS: [f64; 4] = [780.0, 588.0, 480.0, 380.0];
 /// Luminous efficacy of equal-energy white over 380-780 nm, Radiance `WHTEFFICACY` (lm/W).
 pub const WHITE_EFFICACY: f64 = 179.0;
 
-/// Photopic weights of Radiance's standard RGB primaries (`src/common/color.h`,
-/// `CIE_rf/CIE_gf/CIE_bf`). `179 * (w . rgb)` is luminance or illuminance.
-pub const RGB_PHOTOPIC: [f64; 3] = [0.265074126, 0.670114631, 0.064811243];
+/// Photopic weights of Radiance's standard RGB primaries: what its `luminance()`/`bright()`
+/// macros compute (`src/common/color.h`: `CIE_rf` etc. are derived from the standard
+/// primaries and equal-energy white, i.e. row Y of [`rgb_to_xyz`] of [`STD_PRIMARIES`]).
+/// `179 * (w . rgb)` is luminance or illuminance. (color.h's comment quotes the older
+/// 0.265074126/0.670114631/0.064811243; the compiled values, which evalglare and rmtxop
+/// `-c Y` use, are these; they differ by up to 1.2e-4 relative on coloured values.)
+/// Exactly 10021/37800, 2533/3780, 2449/37800.
+pub const RGB_PHOTOPIC: [f64; 3] = [10021.0 / 37800.0, 2533.0 / 3780.0, 2449.0 / 37800.0];
 
 /// Radiance's standard primaries `STDPRIMS` (`src/common/color.h`): x,y of R, G, B, white
 /// (equal-energy white, not D65).
@@ -35,8 +40,8 @@ pub const STD_PRIMARIES: [f64; 8] = [
 /// RGB to CIE XYZ for the given primaries (`x y` of R, G, B, white), scaled so that white
 /// RGB (1,1,1) has Y = 1: the standard construction (e.g. Hunt, *The Reproduction of Colour*,
 /// or Radiance's `compxyz2rgbmat`). Row 1 (Y) for Radiance's standard primaries is
-/// (0.265106, 0.670106, 0.064788): what `rmtxop -c Y` uses (x 179), slightly different from
-/// `CIE_rf/gf/bf` ([`RGB_PHOTOPIC`]), which Radiance's renderers use for luminance.
+/// (0.265106, 0.670106, 0.064788): what `rmtxop -c Y` (x 179) and Radiance's `luminance()`
+/// use ([`RGB_PHOTOPIC`]).
 pub fn rgb_to_xyz(p: &[f64; 8]) -> [[f64; 3]; 3] {
     let col = |x: f64, y: f64| [x / y, 1.0, (1.0 - x - y) / y];
     let m = [col(p[0], p[1]), col(p[2], p[3]), col(p[4], p[5])];
@@ -183,6 +188,14 @@ mod tests {
                 .any(|l| l == "WAVELENGTH_SPLITS= 780 588 480 380")
         );
         assert_eq!(Channels::from_header(&h, "t").unwrap(), c);
+    }
+
+    #[test]
+    fn photopic_weights_are_the_primaries_row_y() {
+        let y = rgb_to_xyz(&STD_PRIMARIES)[1];
+        for (a, b) in y.iter().zip(RGB_PHOTOPIC) {
+            assert!((a - b).abs() < 1e-15, "{a} vs {b}");
+        }
     }
 
     #[test]

@@ -140,25 +140,9 @@ impl Pixels {
     }
 }
 
-/// Radiance's `WHTEFFICACY` (lm/W, `color.h`).
-const WHTEFFICACY: f64 = 179.0;
-
-/// Radiance's `CIE_rf`, `CIE_gf`, `CIE_bf` as its `color.h` *computes* them (macros on the
-/// nominal CRT primaries with the equal-energy white, `CIE_x_w = CIE_y_w = 1/3`):
-/// 0.2651058201, 0.6701058201, 0.0647883598. The comment in `color.h` (and
-/// `radiometry::RGB_PHOTOPIC`) still quotes 0.265074126, 0.670114631, 0.064811243 (a D65-era
-/// white); the two sets agree for grey pixels but differ by ~1e−7 relative on coloured
-/// ones, which shows in evalglare's printed digits (measured on the furnished-room
-/// fixtures; with these, luminances agree to ~1e−8).
-static CIE_RGB: std::sync::LazyLock<[f64; 3]> = std::sync::LazyLock::new(|| {
-    let (xr, yr, xg, yg, xb, yb) = (0.640, 0.330, 0.290, 0.600, 0.150, 0.060);
-    let (xw, yw) = (1.0 / 3.0, 1.0 / 3.0);
-    let d = xr * (yg - yb) + xg * (yb - yr) + xb * (yr - yg);
-    let cr = (1.0 / yw) * (xw * (yg - yb) - yw * (xg - xb) + xg * yb - xb * yg);
-    let cg = (1.0 / yw) * (xw * (yb - yr) - yw * (xb - xr) - xr * yb + xb * yr);
-    let cb = (1.0 / yw) * (xw * (yr - yg) - yw * (xr - xg) + xr * yg - xg * yr);
-    [yr * cr / d, yg * cg / d, yb * cb / d]
-});
+// Photopic weights and efficacy: Radiance's `luminance()` (see `radiometry::RGB_PHOTOPIC`,
+// the values color.h's macros compute, which evalglare uses).
+use crate::radiometry::{RGB_PHOTOPIC as CIE_RGB_W, WHITE_EFFICACY as WHTEFFICACY};
 
 /// Radiance's `luminance()` of the pixel with the exposure `ex` (per channel) divided out:
 /// what [`Picture::luminance`] computes, without recomputing the exposure per pixel.
@@ -167,7 +151,7 @@ fn luminance(pic: &Picture, x: usize, row: usize, ex: &[f64]) -> f64 {
     let px = pic.pixel(x, row);
     match pic.format {
         PixelFormat::Rgbe => {
-            let [r, g, b] = *CIE_RGB;
+            let [r, g, b] = CIE_RGB_W;
             WHTEFFICACY
                 * (r * px[0] as f64 / ex[0] + g * px[1] as f64 / ex[1] + b * px[2] as f64 / ex[2])
         }

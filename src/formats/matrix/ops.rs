@@ -9,8 +9,9 @@
 //!
 //! Channel transform (`rmatrix.c: rmx_transform`, man `rmtxop.1`): `-c w...` with
 //! `n_out * NCOMP` coefficients maps each element `out[o] = sum_i w[o*NCOMP + i] * in[i]`.
-//! Symbolic `-c Y` on RGB is photopic luminance/illuminance `179 * (0.265074126, 0.670114631,
-//! 0.064811243)` (`color.h` `CIE_rf/gf/bf` times `WHTEFFICACY`); lower case `y` omits 179.
+//! Symbolic `-c Y` on RGB is photopic luminance/illuminance `179 * (0.265106, 0.670106,
+//! 0.064788)` (row Y of the standard primaries' RGB-to-XYZ matrix times `WHTEFFICACY`, as
+//! rmtxop computes it); lower case `y` omits 179.
 //! Note: real rmtxop 6.0a uses its float-computed `rgb2xyzmat` row, 47.45394 119.94894
 //! 11.59712 (notes §2.4), which differs from these by up to 1.2e-4 relative.
 
@@ -138,7 +139,7 @@ impl ChannelTransform {
                 }
                 'Y' | 'y' if nin == 3 => {
                     // rmtxop's `-c Y` is row Y of rgb2xyzmat for the standard primaries
-                    // (x 179 for upper case), not the renderers' CIE_rf/gf/bf.
+                    // (x 179 for upper case).
                     let cf = if c == 'Y' { WHITE_EFFICACY } else { 1.0 };
                     for (r, w) in row.iter_mut().zip(rgb_to_xyz(&STD_PRIMARIES)[1]) {
                         *r = cf * w;

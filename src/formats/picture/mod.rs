@@ -573,7 +573,7 @@ impl Picture {
     }
 
     /// Luminance (cd/m²) of pixel (`x` from the left, `y` from the top), exposure divided
-    /// out. RGBE: `179 (0.265074126 R + 0.670114631 G + 0.064811243 B)` (Radiance's
+    /// out. RGBE: `179 (0.265106 R + 0.670106 G + 0.064788 B)` ([`RGB_PHOTOPIC`]) (Radiance's
     /// `luminance()`, standard primaries whatever `PRIMARIES=` says, as pvalue and evalglare
     /// do). XYZE: Y as stored. Spectra: the RGB band averages of `scolor2color`, then as RGBE
     /// (what Radiance's picture tools do with spectral input).
@@ -785,8 +785,9 @@ mod tests {
         p.header.push("COLORCORR= 1 0.5 1");
         assert_eq!(p.exposure(), vec![4.0, 2.0, 4.0]);
         assert_eq!(p.radiance_values(), vec![0.5, 1.0, 0.5]);
-        let want = 179.0 * (0.265074126 * 0.5 + 0.670114631 + 0.064811243 * 0.5);
-        assert!((p.luminance(0, 0) - want).abs() < 1e-9);
+        // Radiance's luminance(): 179 x row Y of the standard primaries' RGB-to-XYZ matrix.
+        let want = 179.0 * (0.265105820 * 0.5 + 0.670105820 + 0.064788360 * 0.5);
+        assert!((p.luminance(0, 0) - want).abs() < 1e-6);
         p.format = PixelFormat::Xyze;
         assert_eq!(p.luminance(0, 0), 1.0);
         p.header
