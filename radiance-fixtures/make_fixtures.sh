@@ -19,17 +19,7 @@ set -euo pipefail
 cd "$(dirname "$0")"
 
 # ---------------------------------------------------------------- find Radiance
-if [[ -n "${RADIANCE_BIN:-}" ]]; then
-	RBIN=$RADIANCE_BIN
-	RLIB=${RAYPATH:-$(dirname "$RBIN")/lib}
-else
-	ROOT=$(python3 -c "import pyradiance, os; print(os.path.dirname(pyradiance.__file__))")
-	RBIN=$ROOT/bin
-	RLIB=$ROOT/lib
-fi
-[[ -x $RBIN/rtrace ]] || { echo "make_fixtures.sh: no rtrace in $RBIN" >&2; exit 1; }
-export PATH="$RBIN:$PATH"
-export RAYPATH=".:$RLIB"
+source find_radiance.sh rtrace make_fixtures.sh
 NPROC=${NPROC:-1}
 VERSION=$(rtrace -version)
 EPW=../examples/weather/GBR_London.Gatwick.037760_IWEC.epw

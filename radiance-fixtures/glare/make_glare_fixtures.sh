@@ -13,17 +13,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-if [[ -n "${RADIANCE_BIN:-}" ]]; then
-	RBIN=$RADIANCE_BIN
-	RLIB=${RAYPATH:-$(dirname "$RBIN")/lib}
-else
-	ROOT=$(python3 -c "import pyradiance, os; print(os.path.dirname(pyradiance.__file__))")
-	RBIN=$ROOT/bin
-	RLIB=$ROOT/lib
-fi
-[[ -x $RBIN/rpict ]] || { echo "make_glare_fixtures.sh: no rpict in $RBIN" >&2; exit 1; }
-export PATH="$RBIN:$PATH"
-export RAYPATH=".:$RLIB"
+source find_radiance.sh rpict make_glare_fixtures.sh
 
 OUT=glare
 WORK=$(mktemp -d)
