@@ -67,7 +67,7 @@ impl Estimator for Traced {
         let n = Vec3::from(q.dir);
         match (q.quantity, mode) {
             (
-                Quantity::Irradiance,
+                quantity,
                 Mode::Sky {
                     patches,
                     direct_only,
@@ -78,51 +78,33 @@ impl Estimator for Traced {
                 } else {
                     &self.params
                 };
-                if params.ab == 0 {
-                    return; // -ab 0: a sensor sees no glow (radiance-notes 12.8).
-                }
-                let org = Vec3::from(q.org) + n.normalize() * SENSOR_OFFSET;
-                let d = {
-                    let (u, v) = stratum.unit_square(rng);
-                    Vec3::from(cosine_hemisphere(n.normalize().to_array(), u, v))
+                // A sensor sample leaves along a stratified cosine direction with weight
+                // 1/-ad and counts pi x throughput; a view ray is the primary ray itself.
+                let (org, dir, from_sensor, w0, scale) = match quantity {
+                    Quantity::Irradiance => {
+                        if params.ab == 0 {
+                            return; // -ab 0: a sensor sees no glow (radiance-notes 12.8).
+                        }
+                        let (u, v) = stratum.unit_square(rng);
+                        let d = cosine_hemisphere(n.normalize().to_array(), u, v);
+                        let org = Vec3::from(q.org) + n.normalize() * SENSOR_OFFSET;
+                        (org, Vec3::from(d), true, self.w0, PI)
+                    }
+                    Quantity::Radiance => (Vec3::from(q.org), n, false, 1.0, 1.0),
                 };
-                let mut hits: Vec<(usize, Color)> = Vec::new();
-                self.scene
-                    .path_sample(org, d, true, true, self.w0, params, rng, &mut |e, beta| {
-                        hits.push((patches.bin_of(e.to_array()), beta));
-                    });
-                for (bin, beta) in hits {
-                    add_color(tally, bin, &beta, PI, &mut buf);
-                }
-            }
-            (
-                Quantity::Radiance,
-                Mode::Sky {
-                    patches,
-                    direct_only,
-                },
-            ) => {
-                let params = if *direct_only {
-                    &self.direct_params
-                } else {
-                    &self.params
-                };
-                let mut hits: Vec<(usize, Color)> = Vec::new();
+                // Escapes go straight into the tally (no per-sample allocation).
                 self.scene.path_sample(
-                    Vec3::from(q.org),
-                    n,
-                    false,
+                    org,
+                    dir,
+                    from_sensor,
                     true,
-                    1.0,
+                    w0,
                     params,
                     rng,
                     &mut |e, beta| {
-                        hits.push((patches.bin_of(e.to_array()), beta));
+                        add_color(tally, patches.bin_of(e.to_array()), &beta, scale, &mut buf);
                     },
                 );
-                for (bin, beta) in hits {
-                    add_color(tally, bin, &beta, 1.0, &mut buf);
-                }
             }
             (Quantity::Irradiance, Mode::Suns { suns }) => {
                 let org = Vec3::from(q.org) + n.normalize() * SENSOR_OFFSET;
