@@ -23,9 +23,8 @@
 //!                                                           coefficients, rows = pixels
 //! ```
 //!
-//! Until the tracer exists, [`tracer::OpenSky`] computes scenes without surfaces exactly in
-//! distribution (each sensor sees the whole sky), which is what the tests compare with the
-//! analytic answer and with real rcontrib/rtrace.
+//! Light transport is [`traced::Traced`]: the path tracer of `crate::trace` behind the
+//! [`tracer::Estimator`] seam; this module owns options, sampling loops, seeding and output.
 
 pub mod intake;
 pub mod options;
@@ -35,4 +34,4 @@ pub mod traced;
 pub mod tracer;
 
 pub use options::Options;
-pub use tracer::{Estimator, Mode, OpenSky, Quantity, Query, Tally};
+pub use tracer::{Estimator, Mode, Quantity, Query, Tally};

@@ -22,11 +22,10 @@
 //! RMS of its columns' SEs over the mean of its columns' values ([`Tally::relative_se`]); for
 //! a one-column record (a point-in-time value) that is the ordinary relative SE.
 //!
-//! The provisional implementation here is [`OpenSky`]: a scene with no surfaces at all, so
-//! every ray from a sensor leaves the scene at once (the analytic oracle of
-//! `radiance-fixtures/README.md`: each coefficient of an upward sensor is its patch's
-//! projected solid angle and the row sums to pi). The path tracer replaces it behind the
-//! same trait once `geometry` and `material` exist.
+//! The implementation is [`super::traced::Traced`], the path tracer of `crate::trace`
+//! behind this trait; a scene without surfaces is its analytic special case (each
+//! coefficient of an upward sensor is its patch's projected solid angle, the row sums to
+//! pi), which the tests compare with and with real rcontrib/rtrace.
 
 use super::intake::Sky;
 use crate::sky::SkyPatches;
@@ -121,7 +120,7 @@ impl Mode<'_> {
 }
 
 /// Tracing limits as the tracer sees them (Radiance's letters; see `options.rs` for which
-/// ones [`OpenSky`] honours).
+/// ones the tracer honours).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct TraceParams {
     /// `-ab`: maximum number of diffuse bounces.
@@ -325,87 +324,6 @@ impl Tally {
             0.0
         } else {
             ms.sqrt() / mean.abs()
-        }
-    }
-}
-
-/// The reference estimator for scenes without surfaces: every ray leaves the scene at once.
-///
-/// | mode | irradiance query (`-I`) | radiance query |
-/// |---|---|---|
-/// | sky coefficients | cosine-weighted direction `d` about the normal, `pi` into `bin_of(d)` | 1 into `bin_of(dir)` |
-/// | sun coefficients | `cos(theta_i) * omega_i` into each sun `i` above the surface (deterministic) | 1 into the sun whose disc holds `dir` |
-/// | values | `pi L_sky(d)` for a cosine-weighted `d`, plus `L_sun omega cos` per sun | `L(dir)`, suns included |
-///
-/// `-ab 0` makes glow skies invisible to irradiance queries (Radiance: a glow on a `source`
-/// is never a direct source and an `-I` sensor only sees it through an ambient bounce,
-/// radiance-notes.md 12.8); sky coefficients are then all zero, as rcontrib's. Suns (`light`
-/// sources) are direct sources and do not need a bounce. Ambient samples that land inside a
-/// sun's disc add nothing: that light was counted directly (Radiance discards such rays,
-/// notes 5.3). No other parameter matters without surfaces.
-///
-/// Sampling is plain (not stratified) so that the standard errors the [`Tally`] reports are
-/// unbiased; Radiance stratifies its `-ad` samples and is less noisy per sample.
-#[derive(Debug, Clone)]
-pub struct OpenSky {
-    params: TraceParams,
-    ncomp: usize,
-}
-
-impl OpenSky {
-    pub fn new(params: TraceParams, ncomp: usize) -> OpenSky {
-        OpenSky { params, ncomp }
-    }
-}
-
-impl Estimator for OpenSky {
-    fn sample(&self, q: &Query, mode: &Mode, _stratum: Stratum, rng: &mut Rng, tally: &mut Tally) {
-        match (q.quantity, mode) {
-            (Quantity::Irradiance, Mode::Sky { patches, .. }) => {
-                if self.params.ab == 0 {
-                    return;
-                }
-                let d = cosine_direction(q.dir, rng);
-                tally.add_grey(patches.bin_of(d), PI);
-            }
-            (Quantity::Radiance, Mode::Sky { patches, .. }) => {
-                tally.add_grey(patches.bin_of(q.dir), 1.0);
-            }
-            (Quantity::Irradiance, Mode::Suns { suns }) => {
-                for (i, s) in suns.iter().enumerate() {
-                    let c = dot(q.dir, s.dir);
-                    if c > 0.0 {
-                        tally.add_grey(i, c * s.solid_angle);
-                    }
-                }
-            }
-            (Quantity::Radiance, Mode::Suns { suns }) => {
-                if let Some(i) = suns.iter().position(|s| dot(q.dir, s.dir) >= s.cos_half) {
-                    tally.add_grey(i, 1.0);
-                }
-            }
-            (Quantity::Irradiance, Mode::Values { sky }) => {
-                let mut v = vec![0.0; self.ncomp];
-                if self.params.ab > 0 {
-                    let d = cosine_direction(q.dir, rng);
-                    let l = sky.radiance(d, true);
-                    sky.to_channels(l, PI, &mut v);
-                }
-                for sun in &sky.suns {
-                    let c = dot(q.dir, sun.dir);
-                    if c > 0.0 {
-                        let mut s = vec![0.0; self.ncomp];
-                        sky.to_channels(sun.color, c * sun.solid_angle, &mut s);
-                        v.iter_mut().zip(&s).for_each(|(a, b)| *a += b);
-                    }
-                }
-                tally.add(0, &v);
-            }
-            (Quantity::Radiance, Mode::Values { sky }) => {
-                let mut v = vec![0.0; self.ncomp];
-                sky.to_channels(sky.radiance(q.dir, false), 1.0, &mut v);
-                tally.add(0, &v);
-            }
         }
     }
 }
