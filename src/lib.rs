@@ -19,8 +19,11 @@
 //! - [`trace`]: the Monte Carlo path tracer (daylight coefficients, irradiance, radiance).
 //! - [`uplift`]: spectral uplifting (RGB -> smooth bounded reflectance; Jakob & Hanika and a
 //!   learned basis), its validation on measured spectra and melanopic effect.
+//! - [`calib`]: calibration against measurements (`rcalib`).
+//! - [`recon`]: laser scan to a watertight room (`rrecon`).
 //! - [`cli`]: what the thin binaries in `bin/` share (exit codes, progress, atomic output).
 
+pub mod calib;
 pub mod cli;
 pub mod error;
 pub mod formats;
@@ -31,6 +34,7 @@ pub mod material;
 pub mod metrics;
 pub mod radiometry;
 pub mod rdc;
+pub mod recon;
 pub mod scene;
 pub mod sky;
 pub mod trace;

@@ -1,0 +1,5 @@
+//! `rcalib`: placeholder until its issue lands.
+fn main() {
+    eprintln!("rcalib: not implemented yet");
+    std::process::exit(1);
+}

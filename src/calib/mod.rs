@@ -1,0 +1,1 @@
+//! Calibration against field measurements (`rcalib`): compare, explain, apply (issue 7).
