@@ -133,66 +133,151 @@ impl Job<'_> {
     }
 }
 
+/// A scene compiled for one kind of run (sky coefficients, suns or point-in-time values):
+/// what [`main`] prepares before reading any input, and what library users (rcalib, annual
+/// glare) hold to compute records in memory with [`Prepared::compute`].
+pub struct Prepared {
+    pub channels: Channels,
+    sampling: Sampling,
+    intake: intake::Intake,
+    estimator: Traced,
+    patches: Option<SkyPatches>,
+    direct: bool,
+    suns: Option<Vec<SunDisc>>,
+    target_se: Option<f64>,
+    max_samples: Option<usize>,
+    seed: u64,
+    threads: Option<usize>,
+}
+
+impl Prepared {
+    /// Load and compile the scene of `opts` (its `scene` files) with its sampling settings.
+    /// Errors (unsupported primitives, bad options) come with file:line before any input.
+    pub fn new(opts: &Options, picture: bool) -> Result<Prepared> {
+        let sampling = opts.sampling()?;
+        let channels = opts.channels()?;
+        check_combinations(opts, picture, &channels)?;
+        // Scene first: its errors come before anything is read or written.
+        let mut lopts = LoadOptions::from_env();
+        lopts.allow_exec &= !opts.no_exec;
+        let intake = intake::load(&opts.scene, &lopts)?;
+        // Compile the surfaces (materials through modifier chains, one BVH) before any
+        // input is read: unsupported primitives stop here with file:line.
+        let shading = ShadingOptions {
+            dj: sampling.dj,
+            st: sampling.st,
+            ..ShadingOptions::rcontrib()
+        };
+        let renderable = Renderable::compile(&intake.scene, &channels, &shading)?;
+        let patches = opts.mf.map(SkyPatches::new);
+        let suns = match &opts.suns {
+            Some(s) => Some(sun_discs(s, opts.sun_angle)?),
+            None => None,
+        };
+        if patches.is_none() && suns.is_none() {
+            check_sky(&intake.sky, &opts.scene)?;
+            intake.sky.check_channels(channels.ncomp)?;
+        }
+        let params = trace_params(&sampling);
+        let estimator = Traced::new(renderable, &params, sampling.ad);
+        Ok(Prepared {
+            channels,
+            sampling,
+            intake,
+            estimator,
+            patches,
+            direct: opts.direct,
+            suns,
+            target_se: opts.target_se,
+            max_samples: opts.max_samples,
+            seed: opts.seed,
+            threads: opts.threads,
+        })
+    }
+
+    /// The job every record shares: mode (sky patches, suns or the scene's sky), sampling
+    /// and seed.
+    pub fn job(&self) -> Job<'_> {
+        let mode = if let Some(p) = &self.patches {
+            Mode::Sky {
+                patches: p,
+                direct_only: self.direct,
+            }
+        } else if let Some(s) = &self.suns {
+            Mode::Suns { suns: s }
+        } else {
+            Mode::Values {
+                sky: &self.intake.sky,
+            }
+        };
+        let weights = if self.channels.ncomp == 3 {
+            RGB_PHOTOPIC.to_vec()
+        } else {
+            vec![1.0 / self.channels.ncomp as f64; self.channels.ncomp]
+        };
+        Job {
+            estimator: &self.estimator,
+            mode,
+            ncomp: self.channels.ncomp,
+            weights,
+            ad: self.sampling.ad,
+            target_se: self.target_se,
+            max_samples: self.max_samples.unwrap_or(100 * self.sampling.ad),
+            seed: self.seed,
+        }
+    }
+
+    /// A thread pool of `-n` workers (all cores by default).
+    pub fn pool(&self) -> Result<rayon::ThreadPool> {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(self.threads.unwrap_or(0))
+            .build()
+            .map_err(|e| Error::Usage(format!("-n: cannot start threads: {e}")))
+    }
+
+    /// Records for `rays` in memory, in input order: sensor rows (`-I` when the options
+    /// said so) of sky coefficients (`-m`), sun coefficients (`--suns`) or point-in-time
+    /// values; each [`RecordResult`] holds `ncols * ncomp` values (columns outer). Record
+    /// `i` is seeded as row `i` of the `rdc` binary, so the numbers equal its output.
+    ///
+    /// ```no_run
+    /// use clap::Parser;
+    /// use rdaylight::formats::sensors::Ray;
+    /// use rdaylight::rdc::{Options, run::Prepared};
+    /// let opts = Options::parse_from(["rdc", "-I", "-ab", "3", "-ad", "512", "-m", "1", "room.rad"]);
+    /// let prepared = Prepared::new(&opts, false)?;
+    /// let rows = prepared.compute(&[Ray::new([3.0, 2.0, 0.8], [0.0, 0.0, 1.0])], true)?;
+    /// assert_eq!(rows[0].values.len(), 146 * 3);
+    /// # Ok::<(), rdaylight::Error>(())
+    /// ```
+    pub fn compute(&self, rays: &[Ray], irradiance: bool) -> Result<Vec<RecordResult>> {
+        let job = self.job();
+        let query = move |r: &Ray, _: &mut Rng| sensor_query(r, irradiance);
+        let pool = self.pool()?;
+        Ok(pool.install(|| {
+            let mut out = Vec::with_capacity(rays.len());
+            for (b, block) in rays.chunks(job.block_len()).enumerate() {
+                let first = (b * job.block_len()) as u64;
+                out.extend(job.block(first, block, &query));
+            }
+            out
+        }))
+    }
+
+    /// Columns per record (patches, suns, or 1 for values).
+    pub fn ncols(&self) -> usize {
+        self.job().mode.ncols()
+    }
+}
+
 /// Everything `rdc` does after option parsing. `command` is the command line for the
 /// header; `view` is set when view options were given (picture mode).
 pub fn main(opts: &Options, view: Option<View>, command: &[String]) -> Result<()> {
-    let sampling = opts.sampling()?;
-    let channels = opts.channels()?;
     let (ray_format, out_format) = opts.formats()?;
-    check_combinations(opts, view.is_some(), &channels)?;
-
-    // Scene first: its errors come before anything is read or written.
-    let mut lopts = LoadOptions::from_env();
-    lopts.allow_exec &= !opts.no_exec;
-    let intake = intake::load(&opts.scene, &lopts)?;
-    // Compile the surfaces (materials through modifier chains, one BVH) before any input
-    // is read: unsupported primitives stop here with file:line.
-    let shading = ShadingOptions {
-        dj: sampling.dj,
-        st: sampling.st,
-        ..ShadingOptions::rcontrib()
-    };
-    let renderable = Renderable::compile(&intake.scene, &channels, &shading)?;
-
-    let patches = opts.mf.map(SkyPatches::new);
-    let suns = match &opts.suns {
-        Some(s) => Some(sun_discs(s, opts.sun_angle)?),
-        None => None,
-    };
-    let mode = if let Some(p) = &patches {
-        Mode::Sky {
-            patches: p,
-            direct_only: opts.direct,
-        }
-    } else if let Some(s) = &suns {
-        Mode::Suns { suns: s }
-    } else {
-        check_sky(&intake.sky, &opts.scene)?;
-        intake.sky.check_channels(channels.ncomp)?;
-        Mode::Values { sky: &intake.sky }
-    };
-
-    let params = trace_params(&sampling);
-    let estimator = Traced::new(renderable, &params, sampling.ad);
-    let weights = if channels.ncomp == 3 {
-        RGB_PHOTOPIC.to_vec()
-    } else {
-        vec![1.0 / channels.ncomp as f64; channels.ncomp]
-    };
-    let job = Job {
-        estimator: &estimator,
-        mode,
-        ncomp: channels.ncomp,
-        weights,
-        ad: sampling.ad,
-        target_se: opts.target_se,
-        max_samples: opts.max_samples.unwrap_or(100 * sampling.ad),
-        seed: opts.seed,
-    };
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(opts.threads.unwrap_or(0))
-        .build()
-        .map_err(|e| Error::Usage(format!("-n: cannot start threads: {e}")))?;
+    let prepared = Prepared::new(opts, view.is_some())?;
+    let channels = prepared.channels;
+    let job = prepared.job();
+    let pool = prepared.pool()?;
     let out_channels = if opts.oi { Channels::mono() } else { channels };
     let stdout = std::io::stdout();
     let seekable = crate::cli::stdout_is_file();
