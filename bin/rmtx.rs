@@ -51,7 +51,8 @@ struct Cli {
 
     /// Channel transform of the result (rmtxop -c): N x NCOMP coefficients, e.g.
     /// `-c 47.4 119.9 11.6` (RGB irradiance to lux), or one symbolic word of R G B Y y A
-    /// (`-c Y` = 179 x (0.265074126 0.670114631 0.064811243), Radiance's CIE_rf/gf/bf).
+    /// (`-c Y` = 179 x (0.265106 0.670106 0.064788), row Y of Radiance's RGB-to-XYZ matrix
+    /// as rmtxop computes it).
     #[arg(short = 'c', num_args = 1.., allow_negative_numbers = true, value_name = "W")]
     coefs: Vec<String>,
 
