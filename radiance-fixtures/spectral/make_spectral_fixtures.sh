@@ -100,6 +100,7 @@ run sky_glow360.rad input "printf '%s\n' '# Uniform unit glow on every direction
 run sensors.pts input "printf '%s\n' '2 1 .8 0 0 1' '2 2.5 .8 0 0 1' '2 4 .8 0 0 1' '1 2.5 .8 0 0 1' '3 2.5 .8 0 0 1' '2 2.5 1.2 1 0 0' '2 2.5 1.2 0 1 0' > sensors.pts"
 # View rays: at the red wall, out of the window (sky through the glazing), at the floor.
 run views.pts input "printf '%s\n' '2 2.5 1.2 1 0 0' '2 2.5 1.2 0 -1 .3' '2 2.5 1.2 0 0 -1' > views.pts"
+NSENS=$(wc -l < sensors.pts)
 run $WORK/clear.oct scratch "oconv room.rad sky_clear.rad > $WORK/clear.oct"
 run $WORK/glow.oct scratch "oconv room.rad sky_glow360.rad > $WORK/glow.oct"
 
@@ -148,7 +149,7 @@ for r in 1 2 3; do
 	k=${PADS[$((r - 1))]}
 	run irr_run$r.txt mc "$(pad $k sensors.pts) | rtrace -I $RT_OPTS $WORK/clear.oct | tail -n +$((k + 1)) > irr_run$r.txt"
 	run rad_run$r.txt mc "$(pad $k views.pts) | rtrace $RT_OPTS $WORK/clear.oct | tail -n +$((k + 1)) > rad_run$r.txt"
-	run dc_run$r.mtx mc "$(pad $k sensors.pts) | rcontrib $DC_OPTS -faa -e MF:1 -f reinhart.cal -b rbin -bn Nrbins -m skyglow $WORK/glow.oct > $WORK/raw$r.mtx && python3 $WORK/tool.py drop $WORK/raw$r.mtx $k dc_run$r.mtx"
+	run dc_run$r.mtx mc "$(pad $k sensors.pts) | rcontrib $DC_OPTS -faa -y $((NSENS + k)) -e MF:1 -f reinhart.cal -b rbin -bn Nrbins -m skyglow $WORK/glow.oct > $WORK/raw$r.mtx && python3 $WORK/tool.py drop $WORK/raw$r.mtx $k dc_run$r.mtx"
 done
 
 # ---------------------------------------------------------------- spread + manifest
