@@ -116,6 +116,35 @@ struct SchedArgs {
 
 #[derive(Subcommand)]
 enum Cmd {
+    /// Melanopic quantities from a spectral irradiance matrix (NCOMP > 3, Radiance band
+    /// convention, e.g. `rmtx dc18.mtx sky18.smx`): writes one quantity per sensor and
+    /// step as an NCOMP=1 matrix (CIE S 026 m-EDI by default; Ev, M/P, melanopic
+    /// irradiance, or Radiance's `M`, where m-EDI = 0.9233 M), and optionally a per-sensor
+    /// summary and a PNG map of the mean m-EDI (rdaylight::metrics::melanopic).
+    Melanopic {
+        /// Spectral irradiance matrix; `-` = standard input.
+        #[arg(default_value = "-")]
+        input: String,
+        /// Quantity per sensor and step.
+        #[arg(long, value_enum, default_value = "medi")]
+        quantity: metrics::melanopic::Quantity,
+        /// Write the matrix here instead of standard output.
+        #[arg(short = 'o', long, value_name = "FILE")]
+        output: Option<String>,
+        /// Per-sensor summary TSV (mean m-EDI, Ev and M/P over lit steps, steps with m-EDI
+        /// at or above --threshold).
+        #[arg(long, value_name = "FILE")]
+        summary: Option<String>,
+        /// m-EDI threshold in lx for the summary (Brown et al. 2022 daytime: 250).
+        #[arg(long, value_name = "LUX", default_value_t = metrics::melanopic::DAYTIME_MEDI_LX)]
+        threshold: f64,
+        /// Sensor points (one per row) for the summary's x y z and for --png.
+        #[arg(long, value_name = "FILE")]
+        pts: Option<String>,
+        /// PNG map of the mean m-EDI per sensor over the plan (needs --pts).
+        #[arg(long, value_name = "FILE", requires = "pts")]
+        png: Option<String>,
+    },
     /// PE, MAPE, RMSE (seed Appendix A) of variants against a benchmark: two or more
     /// rmetrics TSV tables, or two or more illuminance matrices (then with the same time
     /// stamp options as the main command).
@@ -212,6 +241,75 @@ fn run_compare(bench: &str, variants: &[String], sched: &SchedArgs) -> Result<()
     })
 }
 
+#[allow(clippy::too_many_arguments)]
+fn run_melanopic(
+    input: &str,
+    quantity: metrics::melanopic::Quantity,
+    output: Option<&str>,
+    summary: Option<&str>,
+    threshold: f64,
+    pts: Option<&str>,
+    png: Option<&str>,
+) -> Result<(), Error> {
+    use rdaylight::formats::header::Header;
+    use rdaylight::formats::matrix::{DataFormat, MatrixReader, MatrixWriter, WriteOptions};
+    let positions = match pts {
+        Some(p) => {
+            let f = std::fs::File::open(p).map_err(|e| Error::io(p, e))?;
+            let rays = read_rays(std::io::BufReader::new(f), p, RayFormat::Ascii)?;
+            Some(rays.iter().map(|r| r.org).collect::<Vec<[f64; 3]>>())
+        }
+        None => None,
+    };
+    let mut reader = MatrixReader::open(input, &metrics::melanopic::read_options())?;
+    let mut header = Header::new();
+    header.push_command(std::env::args());
+    let mut sums = Vec::new();
+    write_out(output, |w| {
+        let mut mw = MatrixWriter::new(
+            w,
+            output.unwrap_or("<stdout>"),
+            header,
+            reader.nrows(),
+            reader.ncols(),
+            rdaylight::radiometry::Channels::mono(),
+            WriteOptions::new(DataFormat::Ascii),
+        )?;
+        let mut row = Vec::new();
+        sums = metrics::melanopic::reduce(&mut reader, threshold, |_, vals| {
+            row.clear();
+            row.extend(vals.iter().map(|m| quantity.of(m)));
+            mw.write_row(&row)
+        })?;
+        mw.finish()?;
+        Ok(())
+    })?;
+    if let Some(p) = &positions {
+        if p.len() != sums.len() {
+            return Err(Error::Mismatch(format!(
+                "{}: {} sensor points but {input} has {} rows",
+                pts.unwrap_or(""),
+                p.len(),
+                sums.len()
+            )));
+        }
+    }
+    if let Some(s) = summary {
+        rdaylight::cli::write_atomically(Path::new(s), |w| {
+            metrics::melanopic::write_summary(w, s, &sums, threshold, positions.as_deref())
+        })?;
+    }
+    if let (Some(png), Some(p)) = (png, &positions) {
+        let xy: Vec<[f64; 2]> = p.iter().map(|q| [q[0], q[1]]).collect();
+        let vals: Vec<f64> = sums.iter().map(|s| s.mean_medi).collect();
+        let bytes = map::png_bytes(&map::render(&xy, &vals)?)?;
+        rdaylight::cli::write_atomically(Path::new(png), |w| {
+            w.write_all(&bytes).map_err(|e| Error::io(png, e))
+        })?;
+    }
+    Ok(())
+}
+
 fn real_main() -> Result<(), Error> {
     let cli = Cli::parse();
     if let Some(Cmd::Compare {
@@ -221,6 +319,26 @@ fn real_main() -> Result<(), Error> {
     }) = &cli.cmd
     {
         return run_compare(benchmark, variants, sched);
+    }
+    if let Some(Cmd::Melanopic {
+        input,
+        quantity,
+        output,
+        summary,
+        threshold,
+        pts,
+        png,
+    }) = &cli.cmd
+    {
+        return run_melanopic(
+            input,
+            *quantity,
+            output.as_deref(),
+            summary.as_deref(),
+            *threshold,
+            pts.as_deref(),
+            png.as_deref(),
+        );
     }
     let udi = pair(&cli.udi, "--udi", 3)?;
     let ase = pair(&cli.ase, "--ase", 2)?;
