@@ -223,3 +223,116 @@ fn fixture_spectra_are_visible_in_radiance_output() {
     // Red wall: longest bands brighter than the shortest.
     assert!(rad[0][1] > 3.0 * rad[0][NCS - 2], "{:?}", rad[0]);
 }
+
+/// genssky's `specpict` sky (an equirectangular Radiance_spectra picture), evaluated
+/// natively: rdc's view rays into a synthetic 20-band sky picture against real
+/// `rtrace -ab 0 -cs N -co` (deterministic: both decode the same bytes and interpolate
+/// bilinearly), with the picture's own 20 bands and rebinned to 8, and a sensor's
+/// irradiance under it against rtrace -I (Monte Carlo).
+#[test]
+fn genssky_specpict_sky_agrees_with_rtrace() {
+    use rdaylight::formats::picture::{Picture, PixelFormat};
+    use rdaylight::radiometry::Channels;
+    if !common::have_radiance("specpict") {
+        return;
+    }
+    let t = common::tmpdir();
+    let ch = Channels::spectral(20, 380.0, 780.0).unwrap();
+    let (w, h) = (32, 16);
+    let mut p = Picture::new(w, h, ch, PixelFormat::Spectra);
+    for row in 0..h {
+        for x in 0..w {
+            for b in 0..20 {
+                // A bright, bluish band towards the zenith and a warm glow at x ~ 10.
+                let up = 1.0 - row as f64 / h as f64;
+                let warm = (-((x as f64 - 10.0) / 4.0).powi(2)).exp();
+                let v = 0.5 + up * (1.0 + b as f64 / 10.0) + 3.0 * warm * (20 - b) as f64 / 20.0;
+                p.data[(row * w + x) * 20 + b] = v as f32;
+            }
+        }
+    }
+    p.save(t.path().join("sky.hsr"), false).unwrap();
+    std::fs::write(
+        t.path().join("sky.rad"),
+        "void specpict skyfunc 5 noop sky.hsr . 'Atan2(Dy,Dx)/PI+1' '1-Acos(Dz)/PI' 0 0\n\
+         skyfunc glow skyglow 0 0 4 1 1 1 0\nskyglow source sky 0 0 4 0 0 1 180\n\
+         skyfunc glow groundglow 0 0 4 1 1 1 0\ngroundglow source ground 0 0 4 0 0 -1 180\n\
+         void plastic grey 0 0 5 .5 .5 .5 0 0\ngrey polygon floor 0 0 12 -5 -5 0 5 -5 0 5 5 0 -5 5 0\n",
+    )
+    .unwrap();
+    let oct = common::run_ok(
+        common::radiance("oconv")
+            .current_dir(t.path())
+            .arg("sky.rad"),
+        b"",
+    );
+    std::fs::write(t.path().join("sky.oct"), oct).unwrap();
+    let rays: String = [
+        [0.0, 0.0, 1.0],
+        [0.3, 0.2, 0.9],
+        [-0.7, 0.1, 0.4],
+        [0.2, -0.9, 0.3],
+        [0.9, 0.4, 0.1],
+        [-0.5, -0.5, 0.7],
+        [0.01, 0.99, 0.05],
+    ]
+    .iter()
+    .map(|d| format!("0 0 1 {} {} {}\n", d[0], d[1], d[2]))
+    .collect();
+    for n in ["20", "8"] {
+        let theirs = rows(
+            &String::from_utf8(common::run_ok(
+                common::radiance("rtrace")
+                    .current_dir(t.path())
+                    .args(["-h", "-ab", "0", "-cs", n, "-co+", "sky.oct"]),
+                rays.as_bytes(),
+            ))
+            .unwrap(),
+        );
+        let ours = rows(
+            &String::from_utf8(common::run_ok(
+                common::ours("rdc")
+                    .current_dir(t.path())
+                    .args(["-h", "-ab", "0", "-cs", n, "sky.rad"]),
+                rays.as_bytes(),
+            ))
+            .unwrap(),
+        );
+        assert_eq!(ours.len(), theirs.len());
+        for (i, (o, r)) in ours.iter().zip(&theirs).enumerate() {
+            for (b, (x, y)) in o.iter().zip(r).enumerate() {
+                assert!(
+                    (x - y).abs() <= 2e-3 * y.abs() + 1e-6,
+                    "-cs {n} ray {i} band {b}: ours {x} vs rtrace {y}"
+                );
+            }
+        }
+    }
+    // Irradiance of an upward sensor above the floor: the sky integrated (Monte Carlo).
+    let sensor = b"0 0 1 0 0 1\n";
+    let theirs = rows(
+        &String::from_utf8(common::run_ok(
+            common::radiance("rtrace").current_dir(t.path()).args([
+                "-h", "-I", "-ab", "1", "-ad", "16384", "-aa", "0", "-as", "0", "-cs", "20",
+                "-co+", "sky.oct",
+            ]),
+            sensor,
+        ))
+        .unwrap(),
+    );
+    let ours = rows(
+        &String::from_utf8(common::run_ok(
+            common::ours("rdc").current_dir(t.path()).args([
+                "-h", "-I", "-ab", "1", "-ad", "16384", "-cs", "20", "-s", "3", "sky.rad",
+            ]),
+            sensor,
+        ))
+        .unwrap(),
+    );
+    for (b, (x, y)) in ours[0].iter().zip(&theirs[0]).enumerate() {
+        assert!(
+            (x / y - 1.0).abs() < 0.02,
+            "irradiance band {b}: ours {x} vs rtrace {y}"
+        );
+    }
+}

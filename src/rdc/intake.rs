@@ -47,6 +47,7 @@ pub const SUPPORTED: &[&str] = &[
     "illum",
     "spectrum",
     "specfile",
+    "specpict",
 ];
 
 /// A sky pattern evaluated natively.
@@ -263,11 +264,12 @@ fn pattern_of(scene: &Scene, m: usize) -> Result<Option<SkyFunction>> {
         if o.class() == Class::Material {
             break;
         }
-        // Constant spectral patterns colour the source (trace::compile applies them).
+        // Spectral patterns colour the source (trace::compile applies them).
         if matches!(
             o.kind,
             Primitive::Spectrum { .. } | Primitive::SpecFile { .. }
-        ) {
+        ) || o.type_name() == "specpict"
+        {
             continue;
         }
         let Primitive::BrightFunc {

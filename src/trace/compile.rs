@@ -30,7 +30,7 @@ use crate::geometry::{Bvh, Object as GeoObject, Shape, Vec3};
 use crate::material::spectrum::Sampled;
 use crate::material::{Color, Emitter, EmitterKind, Material, ShadingOptions};
 use crate::radiometry::Channels;
-use crate::scene::{Class, Object, Primitive, Scene};
+use crate::scene::{Class, OType, Object, Primitive, Scene};
 
 /// One traced surface.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -126,7 +126,7 @@ fn spectral_color(
 
 /// The sky pattern of a distant glow from the patterns modifying its material (spectral
 /// patterns are taken apart by [`spectral_color`]).
-fn sky_pattern(scene: &Scene, src: &Object, material: usize) -> Result<SkyPattern> {
+fn sky_pattern(scene: &Scene, src: &Object, material: usize, ch: &Channels) -> Result<SkyPattern> {
     let pats: Vec<usize> = scene
         .patterns_of(material)
         .into_iter()
@@ -177,6 +177,11 @@ fn sky_pattern(scene: &Scene, src: &Object, material: usize) -> Result<SkyPatter
                         )),
                     }
                 }
+                Primitive::Other {
+                    otype: OType::SpecPict,
+                    strings,
+                    reals,
+                } => specpict(po, strings, reals, ch),
                 _ => Err(unsupported(
                     po,
                     format!(
@@ -199,6 +204,46 @@ fn sky_pattern(scene: &Scene, src: &Object, material: usize) -> Result<SkyPatter
             ))
         }
     }
+}
+
+/// genssky's `specpict` sky (see [`crate::sky::specpict`]): only its own mapping.
+fn specpict(po: &Object, strings: &[String], reals: &[f64], ch: &Channels) -> Result<SkyPattern> {
+    use crate::sky::specpict::{GENSSKY_X, GENSSKY_Y, SpecPictSky, find_file};
+    let clean = |s: &str| -> String {
+        s.trim_matches(|c| c == '\'' || c == '"')
+            .chars()
+            .filter(|c| !c.is_whitespace())
+            .collect()
+    };
+    let ok = match strings {
+        [f, _, cal, x, y] => {
+            f == "noop" && cal == "." && clean(x) == GENSSKY_X && clean(y) == GENSSKY_Y
+        }
+        _ => false,
+    } && reals.is_empty();
+    if !ok {
+        return Err(unsupported(
+            po,
+            format!(
+                "specpict '{}' with arguments {strings:?} {reals:?}; supported: genssky's \
+                 `noop FILE . '{GENSSKY_X}' '{GENSSKY_Y}'` and no real arguments",
+                po.id
+            ),
+        ));
+    }
+    let file = &strings[1];
+    let path = find_file(file, &po.loc.file).ok_or_else(|| {
+        Error::parse(
+            po.loc.clone(),
+            format!(
+                "specpict '{}': picture '{file}' not found (looked beside the scene file, in the working folder and on RAYPATH)",
+                po.id
+            ),
+        )
+    })?;
+    Ok(SkyPattern::SpecPict(std::sync::Arc::new(
+        SpecPictSky::load(&path, ch)?,
+    )))
 }
 
 fn distant_source(
@@ -276,7 +321,7 @@ fn distant_source(
     let pattern = if kind == DistantKind::Light {
         SkyPattern::Uniform
     } else {
-        sky_pattern(scene, o, m)?
+        sky_pattern(scene, o, m, ch)?
     };
     Ok(Some(DistantSource::new(
         o.id.clone(),
