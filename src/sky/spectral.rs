@@ -20,6 +20,13 @@
 //! the sky condition. gensdaymtx (Radiance 6) instead runs a physically based clear-sky
 //! model (Bruneton's precomputed scattering) and scales it by cloud cover: a different
 //! sky, so the two agree on photopic totals only as far as Perez and that model agree.
+//! Measured (`tests/spectral_sky.rs::compare_with_gensdaymtx`, London, 2 days, RADIANCE
+//! 6.0a): photopic sums over the sky patches within 1.5 % at the first day's bright hours,
+//! -24 % to +11 % on the second day's (where the sun's share and its patch spreading
+//! differ most); our skies are 3-15 % bluer (380-480 over 680-780 nm: 1.41-1.45 against
+//! 1.20-1.40). Speed: a London year at MF 1 and 18 bands takes 0.3 s CPU here; gensdaymtx
+//! needs 0.26 s CPU per day after minutes of atmosphere precomputation per distinct aerosol
+//! depth.
 //!
 //! **Photopic consistency.** Every spectrum is scaled so that its Radiance photopic value
 //! (`179 sum_i v_i A_i`, `A_i` the share of the CIE 1931 ybar area inside band `i`,
