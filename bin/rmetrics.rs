@@ -141,9 +141,20 @@ enum Cmd {
         /// Sensor points (one per row) for the summary's x y z and for --png.
         #[arg(long, value_name = "FILE")]
         pts: Option<String>,
-        /// PNG map of the mean m-EDI per sensor over the plan (needs --pts).
+        /// PNG map of the mean m-EDI per sensor over the plan (needs --pts); with
+        /// --weather, of the share of days passing the daily rule instead.
         #[arg(long, value_name = "FILE", requires = "pts")]
         png: Option<String>,
+        /// Weather file the sky matrix was made from (one column per step): enables the
+        /// daily rule (Brown et al. 2022) in the summary and map.
+        #[arg(short = 'w', long, value_name = "FILE")]
+        weather: Option<String>,
+        /// Daily rule: the morning window START-END (decimal hours) and the hours inside
+        /// it that must reach --threshold.
+        #[arg(long, value_name = "START-END", default_value = "8-12")]
+        morning: String,
+        #[arg(long, value_name = "HOURS", default_value_t = 4.0)]
+        min_hours: f64,
     },
     /// PE, MAPE, RMSE (seed Appendix A) of variants against a benchmark: two or more
     /// rmetrics TSV tables, or two or more illuminance matrices (then with the same time
@@ -247,10 +258,12 @@ fn run_melanopic(
     quantity: metrics::melanopic::Quantity,
     output: Option<&str>,
     summary: Option<&str>,
-    threshold: f64,
     pts: Option<&str>,
     png: Option<&str>,
+    weather: Option<&str>,
+    rule: &metrics::melanopic::DailyRule,
 ) -> Result<(), Error> {
+    let threshold = rule.threshold;
     use rdaylight::formats::header::Header;
     use rdaylight::formats::matrix::{DataFormat, MatrixReader, MatrixWriter, WriteOptions};
     let positions = match pts {
@@ -262,6 +275,25 @@ fn run_melanopic(
         None => None,
     };
     let mut reader = MatrixReader::open(input, &metrics::melanopic::read_options())?;
+    let stamps = match weather {
+        Some(w) => {
+            let st = metrics::schedule::stamps_from_weather(
+                &rdaylight::formats::weather::Weather::read_path(w)?,
+            );
+            if st.len() != reader.ncols() {
+                return Err(Error::Mismatch(format!(
+                    "{w}: {} weather steps but {input} has {} columns (make the sky matrix \
+                     without -u)",
+                    st.len(),
+                    reader.ncols()
+                )));
+            }
+            Some(st)
+        }
+        None => None,
+    };
+    let step = stamps.as_deref().map_or(1.0, metrics::schedule::step_hours);
+    let daily = stamps.as_deref().map(|s| (s, step, rule));
     let mut header = Header::new();
     header.push_command(std::env::args());
     let mut sums = Vec::new();
@@ -276,7 +308,7 @@ fn run_melanopic(
             WriteOptions::new(DataFormat::Ascii),
         )?;
         let mut row = Vec::new();
-        sums = metrics::melanopic::reduce(&mut reader, threshold, |_, vals| {
+        sums = metrics::melanopic::reduce(&mut reader, threshold, daily, |_, vals| {
             row.clear();
             row.extend(vals.iter().map(|m| quantity.of(m)));
             mw.write_row(&row)
@@ -301,7 +333,11 @@ fn run_melanopic(
     }
     if let (Some(png), Some(p)) = (png, &positions) {
         let xy: Vec<[f64; 2]> = p.iter().map(|q| [q[0], q[1]]).collect();
-        let vals: Vec<f64> = sums.iter().map(|s| s.mean_medi).collect();
+        let vals: Vec<f64> = if stamps.is_some() {
+            sums.iter().map(|s| s.days_share()).collect()
+        } else {
+            sums.iter().map(|s| s.mean_medi).collect()
+        };
         let bytes = map::png_bytes(&map::render(&xy, &vals)?)?;
         rdaylight::cli::write_atomically(Path::new(png), |w| {
             w.write_all(&bytes).map_err(|e| Error::io(png, e))
@@ -328,16 +364,31 @@ fn real_main() -> Result<(), Error> {
         threshold,
         pts,
         png,
+        weather,
+        morning,
+        min_hours,
     }) = &cli.cmd
     {
+        let (start, end) = parse_range(morning).map_err(|_| {
+            Error::Usage(format!(
+                "--morning: expected START-END in decimal hours such as 8-12, found '{morning}'"
+            ))
+        })?;
+        let rule = metrics::melanopic::DailyRule {
+            threshold: *threshold,
+            start,
+            end,
+            min_hours: *min_hours,
+        };
         return run_melanopic(
             input,
             *quantity,
             output.as_deref(),
             summary.as_deref(),
-            *threshold,
             pts.as_deref(),
             png.as_deref(),
+            weather.as_deref(),
+            &rule,
         );
     }
     let udi = pair(&cli.udi, "--udi", 3)?;

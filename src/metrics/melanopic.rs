@@ -23,11 +23,14 @@
 //!
 //! Daytime recommendation (Brown et al. 2022, *PLoS Biol.* 20(3): e3001571): m-EDI at
 //! least 250 lx at the eye during the day; [`Summary`] counts the steps that reach a
-//! threshold per sensor.
+//! threshold per sensor and, with time stamps, the days that pass a [`DailyRule`] (by
+//! default: at least 4 hours at or above 250 lx between 8 and 12 h, i.e. the whole
+//! morning).
 
 use crate::error::{Error, Result};
 use crate::formats::matrix::reader::{MatrixReader, ReadOptions};
 use crate::material::spectrum::band_integrals;
+use crate::metrics::schedule::Stamp;
 use crate::radiometry::Channels;
 use crate::uplift::colorimetry::{WL_MAX, WL_MIN, tables};
 use crate::uplift::melanopic::{K_MEL_D65, KM};
@@ -145,6 +148,59 @@ impl Quantity {
     }
 }
 
+/// A day passes when m-EDI reaches `threshold` for at least `min_hours` inside the
+/// window `start <= hour < end` (decimal local hours).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DailyRule {
+    pub threshold: f64,
+    pub start: f64,
+    pub end: f64,
+    pub min_hours: f64,
+}
+
+impl Default for DailyRule {
+    fn default() -> Self {
+        DailyRule {
+            threshold: DAYTIME_MEDI_LX,
+            start: 8.0,
+            end: 12.0,
+            min_hours: 4.0,
+        }
+    }
+}
+
+/// (days passing, days with a step in the window) for one sensor's row.
+pub fn daily_pass(
+    vals: &[Melanopic],
+    stamps: &[Stamp],
+    step_hours: f64,
+    r: &DailyRule,
+) -> (usize, usize) {
+    let (mut pass, mut days) = (0, 0);
+    let mut i = 0;
+    while i < stamps.len().min(vals.len()) {
+        let (m, d) = (stamps[i].month, stamps[i].day);
+        let (mut hours, mut seen) = (0.0, false);
+        while i < stamps.len().min(vals.len()) && stamps[i].month == m && stamps[i].day == d {
+            let h = stamps[i].hour;
+            if h >= r.start && h < r.end {
+                seen = true;
+                if vals[i].medi >= r.threshold {
+                    hours += step_hours;
+                }
+            }
+            i += 1;
+        }
+        if seen {
+            days += 1;
+            if hours + 1e-9 >= r.min_hours {
+                pass += 1;
+            }
+        }
+    }
+    (pass, days)
+}
+
 /// Per-sensor summary over the columns.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Summary {
@@ -157,6 +213,16 @@ pub struct Summary {
     pub steps_above: usize,
     /// Steps with light.
     pub lit_steps: usize,
+    /// Days passing the [`DailyRule`] and days counted (0, 0 without time stamps).
+    pub days_pass: usize,
+    pub days: usize,
+}
+
+impl Summary {
+    /// Percentage of counted days that pass (0 without days).
+    pub fn days_share(&self) -> f64 {
+        100.0 * self.days_pass as f64 / self.days.max(1) as f64
+    }
 }
 
 /// Stream a spectral matrix: `each(row, values)` receives every sensor row reduced to
@@ -164,6 +230,7 @@ pub struct Summary {
 pub fn reduce<R: BufRead>(
     reader: &mut MatrixReader<R>,
     threshold: f64,
+    daily: Option<(&[Stamp], f64, &DailyRule)>,
     mut each: impl FnMut(usize, &[Melanopic]) -> Result<()>,
 ) -> Result<Vec<Summary>> {
     let w = BandWeights::new(&reader.info().channels).map_err(|e| match e {
@@ -180,12 +247,18 @@ pub fn reduce<R: BufRead>(
         each(out.len(), &vals)?;
         let lit: Vec<&Melanopic> = vals.iter().filter(|m| m.ev > 0.0).collect();
         let k = lit.len().max(1) as f64;
+        let (days_pass, days) = match daily {
+            Some((st, step, rule)) => daily_pass(&vals, st, step, rule),
+            None => (0, 0),
+        };
         out.push(Summary {
             mean_medi: lit.iter().map(|m| m.medi).sum::<f64>() / k,
             mean_ev: lit.iter().map(|m| m.ev).sum::<f64>() / k,
             mean_mp: lit.iter().map(|m| m.mp()).sum::<f64>() / k,
             steps_above: vals.iter().filter(|m| m.medi >= threshold).count(),
             lit_steps: lit.len(),
+            days_pass,
+            days,
         });
     }
     Ok(out)
@@ -204,7 +277,7 @@ pub fn write_summary(
     let xyz = if pos.is_some() { "\tx\ty\tz" } else { "" };
     writeln!(
         w,
-        "sensor{xyz}\tmean_mEDI_lx\tmean_Ev_lx\tmean_MP\tlit_steps\tsteps_mEDI_ge_{threshold}\tshare_ge_{threshold}_percent"
+        "sensor{xyz}\tmean_mEDI_lx\tmean_Ev_lx\tmean_MP\tlit_steps\tsteps_mEDI_ge_{threshold}\tshare_ge_{threshold}_percent\tdays_pass\tdays\tdays_pass_percent"
     )
     .map_err(io)?;
     for (i, x) in s.iter().enumerate() {
@@ -215,8 +288,15 @@ pub fn write_summary(
         let share = 100.0 * x.steps_above as f64 / x.lit_steps.max(1) as f64;
         writeln!(
             w,
-            "{i}{p}\t{:.2}\t{:.2}\t{:.4}\t{}\t{}\t{share:.1}",
-            x.mean_medi, x.mean_ev, x.mean_mp, x.lit_steps, x.steps_above
+            "{i}{p}\t{:.2}\t{:.2}\t{:.4}\t{}\t{}\t{share:.1}\t{}\t{}\t{:.1}",
+            x.mean_medi,
+            x.mean_ev,
+            x.mean_mp,
+            x.lit_steps,
+            x.steps_above,
+            x.days_pass,
+            x.days,
+            x.days_share()
         )
         .map_err(io)?;
     }
@@ -292,6 +372,37 @@ mod tests {
         // Equal-energy white: Radiance's M is 179 x the band value.
         let m = w.eval(&[1.0; 18]);
         assert!((m.radiance_m - 179.0).abs() < 1e-9, "{}", m.radiance_m);
+    }
+
+    #[test]
+    fn a_day_passes_with_four_morning_hours_at_250_lx() {
+        let m = |medi: f64| Melanopic {
+            ev: medi,
+            e_mel: 0.0,
+            medi,
+            radiance_m: 0.0,
+        };
+        let st = |day: u8, hour: f64| Stamp {
+            month: 1,
+            day,
+            hour,
+        };
+        // Day 1: 8.5 .. 11.5 all >= 250 (passes); day 2: 10.5 below (fails); day 3: only
+        // afternoon steps (not counted).
+        let stamps = [
+            st(1, 8.5),
+            st(1, 9.5),
+            st(1, 10.5),
+            st(1, 11.5),
+            st(1, 12.5),
+            st(2, 8.5),
+            st(2, 9.5),
+            st(2, 10.5),
+            st(2, 11.5),
+            st(3, 14.5),
+        ];
+        let v = [300., 250., 400., 260., 0., 300., 300., 249., 300., 999.].map(m);
+        assert_eq!(daily_pass(&v, &stamps, 1.0, &DailyRule::default()), (1, 2));
     }
 
     #[test]
