@@ -95,3 +95,26 @@ fixtures: radiance
 
 clean:
 	rm -rf $(OUT)
+
+# Spectral daylight in one pass (issue 8): 18-band daylight coefficients of the example room,
+# an 18-band Perez sky matrix of the London year (CIE daylight spectra per sky condition,
+# photopically equal to the RGB matrix), their product (spectral irradiance per sensor and
+# hour), then CIE S 026 m-EDI per sensor and hour, a per-sensor summary (mean m-EDI, Ev, M/P
+# over daylit hours; hours with m-EDI >= 250 lx; days on which all four morning hours 8-12 h
+# reach 250 lx, after Brown et al. 2022) and a map of the share of such days. Work-plane
+# sensors face up: this is horizontal m-EDI, not the eye-level value the
+# recommendation is about (use vertical sensors for that). Lighter tracing than `example`
+# to stay within a minute or two.
+SPEC_RDC_OPTS ?= -ab 4 -ad 4096 -lw 1e-4 -s 1
+SPEC     := $(OUT)/spectral
+.PHONY: spectral-example
+spectral-example: build
+	@mkdir -p $(SPEC)
+	$(BIN)/rdc -I $(SPEC_RDC_OPTS) -cs 18 -m 1 -faf $(ROOM)/room.rad $(ROOM)/skydome.rad < $(SENSORS) > $(SPEC)/dc18.mtx
+	$(BIN)/rspecsky -cs 18 -m 1 -of $(EPW) > $(SPEC)/sky18.smx
+	$(BIN)/rmtx -ff $(SPEC)/dc18.mtx $(SPEC)/sky18.smx > $(SPEC)/irradiance18.mtx
+	$(BIN)/rmetrics melanopic -w $(EPW) --pts $(SENSORS) --summary $(SPEC)/melanopic.tsv \
+	    --png $(SPEC)/medi_days.png -o $(SPEC)/medi.mtx $(SPEC)/irradiance18.mtx
+	@rm -f $(SPEC)/irradiance18.mtx
+	@awk -F'\t' 'NR>1 {m+=$$5; e+=$$6; r+=$$7; d+=$$13; n++} END {printf "room means over daylit hours: m-EDI %.0f lx, Ev %.0f lx, M/P %.3f; mornings with m-EDI >= 250 lx 8-12 h: %.1f %% of days (%d sensors)\n", m/n, e/n, r/n, d/n, n}' $(SPEC)/melanopic.tsv
+	@echo "Per sensor: $(SPEC)/melanopic.tsv; m-EDI per sensor and hour: $(SPEC)/medi.mtx; map: $(SPEC)/medi_days.png"

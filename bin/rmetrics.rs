@@ -116,6 +116,46 @@ struct SchedArgs {
 
 #[derive(Subcommand)]
 enum Cmd {
+    /// Melanopic quantities from a spectral irradiance matrix (NCOMP > 3, Radiance band
+    /// convention, e.g. `rmtx dc18.mtx sky18.smx`): writes one quantity per sensor and
+    /// step as an NCOMP=1 matrix (CIE S 026 m-EDI by default; Ev, M/P, melanopic
+    /// irradiance, or Radiance's `M`, where m-EDI = 0.9233 M), and optionally a per-sensor
+    /// summary and a PNG map of the mean m-EDI (rdaylight::metrics::melanopic).
+    Melanopic {
+        /// Spectral irradiance matrix; `-` = standard input.
+        #[arg(default_value = "-")]
+        input: String,
+        /// Quantity per sensor and step.
+        #[arg(long, value_enum, default_value = "medi")]
+        quantity: metrics::melanopic::Quantity,
+        /// Write the matrix here instead of standard output.
+        #[arg(short = 'o', long, value_name = "FILE")]
+        output: Option<String>,
+        /// Per-sensor summary TSV (mean m-EDI, Ev and M/P over lit steps, steps with m-EDI
+        /// at or above --threshold).
+        #[arg(long, value_name = "FILE")]
+        summary: Option<String>,
+        /// m-EDI threshold in lx for the summary (Brown et al. 2022 daytime: 250).
+        #[arg(long, value_name = "LUX", default_value_t = metrics::melanopic::DAYTIME_MEDI_LX)]
+        threshold: f64,
+        /// Sensor points (one per row) for the summary's x y z and for --png.
+        #[arg(long, value_name = "FILE")]
+        pts: Option<String>,
+        /// PNG map of the mean m-EDI per sensor over the plan (needs --pts); with
+        /// --weather, of the share of days passing the daily rule instead.
+        #[arg(long, value_name = "FILE", requires = "pts")]
+        png: Option<String>,
+        /// Weather file the sky matrix was made from (one column per step): enables the
+        /// daily rule (Brown et al. 2022) in the summary and map.
+        #[arg(short = 'w', long, value_name = "FILE")]
+        weather: Option<String>,
+        /// Daily rule: the morning window START-END (decimal hours) and the hours inside
+        /// it that must reach --threshold.
+        #[arg(long, value_name = "START-END", default_value = "8-12")]
+        morning: String,
+        #[arg(long, value_name = "HOURS", default_value_t = 4.0)]
+        min_hours: f64,
+    },
     /// PE, MAPE, RMSE (seed Appendix A) of variants against a benchmark: two or more
     /// rmetrics TSV tables, or two or more illuminance matrices (then with the same time
     /// stamp options as the main command).
@@ -212,6 +252,100 @@ fn run_compare(bench: &str, variants: &[String], sched: &SchedArgs) -> Result<()
     })
 }
 
+#[allow(clippy::too_many_arguments)]
+fn run_melanopic(
+    input: &str,
+    quantity: metrics::melanopic::Quantity,
+    output: Option<&str>,
+    summary: Option<&str>,
+    pts: Option<&str>,
+    png: Option<&str>,
+    weather: Option<&str>,
+    rule: &metrics::melanopic::DailyRule,
+) -> Result<(), Error> {
+    let threshold = rule.threshold;
+    use rdaylight::formats::header::Header;
+    use rdaylight::formats::matrix::{DataFormat, MatrixReader, MatrixWriter, WriteOptions};
+    let positions = match pts {
+        Some(p) => {
+            let f = std::fs::File::open(p).map_err(|e| Error::io(p, e))?;
+            let rays = read_rays(std::io::BufReader::new(f), p, RayFormat::Ascii)?;
+            Some(rays.iter().map(|r| r.org).collect::<Vec<[f64; 3]>>())
+        }
+        None => None,
+    };
+    let mut reader = MatrixReader::open(input, &metrics::melanopic::read_options())?;
+    let stamps = match weather {
+        Some(w) => {
+            let st = metrics::schedule::stamps_from_weather(
+                &rdaylight::formats::weather::Weather::read_path(w)?,
+            );
+            if st.len() != reader.ncols() {
+                return Err(Error::Mismatch(format!(
+                    "{w}: {} weather steps but {input} has {} columns (make the sky matrix \
+                     without -u)",
+                    st.len(),
+                    reader.ncols()
+                )));
+            }
+            Some(st)
+        }
+        None => None,
+    };
+    let step = stamps.as_deref().map_or(1.0, metrics::schedule::step_hours);
+    let daily = stamps.as_deref().map(|s| (s, step, rule));
+    let mut header = Header::new();
+    header.push_command(std::env::args());
+    let mut sums = Vec::new();
+    write_out(output, |w| {
+        let mut mw = MatrixWriter::new(
+            w,
+            output.unwrap_or("<stdout>"),
+            header,
+            reader.nrows(),
+            reader.ncols(),
+            rdaylight::radiometry::Channels::mono(),
+            WriteOptions::new(DataFormat::Ascii),
+        )?;
+        let mut row = Vec::new();
+        sums = metrics::melanopic::reduce(&mut reader, threshold, daily, |_, vals| {
+            row.clear();
+            row.extend(vals.iter().map(|m| quantity.of(m)));
+            mw.write_row(&row)
+        })?;
+        mw.finish()?;
+        Ok(())
+    })?;
+    if let Some(p) = &positions {
+        if p.len() != sums.len() {
+            return Err(Error::Mismatch(format!(
+                "{}: {} sensor points but {input} has {} rows",
+                pts.unwrap_or(""),
+                p.len(),
+                sums.len()
+            )));
+        }
+    }
+    if let Some(s) = summary {
+        rdaylight::cli::write_atomically(Path::new(s), |w| {
+            metrics::melanopic::write_summary(w, s, &sums, threshold, positions.as_deref())
+        })?;
+    }
+    if let (Some(png), Some(p)) = (png, &positions) {
+        let xy: Vec<[f64; 2]> = p.iter().map(|q| [q[0], q[1]]).collect();
+        let vals: Vec<f64> = if stamps.is_some() {
+            sums.iter().map(|s| s.days_share()).collect()
+        } else {
+            sums.iter().map(|s| s.mean_medi).collect()
+        };
+        let bytes = map::png_bytes(&map::render(&xy, &vals)?)?;
+        rdaylight::cli::write_atomically(Path::new(png), |w| {
+            w.write_all(&bytes).map_err(|e| Error::io(png, e))
+        })?;
+    }
+    Ok(())
+}
+
 fn real_main() -> Result<(), Error> {
     let cli = Cli::parse();
     if let Some(Cmd::Compare {
@@ -221,6 +355,41 @@ fn real_main() -> Result<(), Error> {
     }) = &cli.cmd
     {
         return run_compare(benchmark, variants, sched);
+    }
+    if let Some(Cmd::Melanopic {
+        input,
+        quantity,
+        output,
+        summary,
+        threshold,
+        pts,
+        png,
+        weather,
+        morning,
+        min_hours,
+    }) = &cli.cmd
+    {
+        let (start, end) = parse_range(morning).map_err(|_| {
+            Error::Usage(format!(
+                "--morning: expected START-END in decimal hours such as 8-12, found '{morning}'"
+            ))
+        })?;
+        let rule = metrics::melanopic::DailyRule {
+            threshold: *threshold,
+            start,
+            end,
+            min_hours: *min_hours,
+        };
+        return run_melanopic(
+            input,
+            *quantity,
+            output.as_deref(),
+            summary.as_deref(),
+            pts.as_deref(),
+            png.as_deref(),
+            weather.as_deref(),
+            &rule,
+        );
     }
     let udi = pair(&cli.udi, "--udi", 3)?;
     let ase = pair(&cli.ase, "--ase", 2)?;

@@ -17,6 +17,7 @@ use rdaylight::sky::matrix::{
 use rdaylight::sky::pointsky::{
     PointSkyColours, point_sky_text, record_input, split_ground_reflectance,
 };
+use rdaylight::sky::spectral::spectral_sky_matrix;
 use rdaylight::sky::{PerezOptions, SkyPatches, solar};
 use std::io::Write;
 
@@ -28,6 +29,8 @@ Examples:
   Sun-only and sky-only matrices for a 5-phase calculation:
     rspecsky -5 0.533 -d -m 6 -of site.wea > suns.smx
     rspecsky -s -m 1 -of site.wea > skies.smx
+  An 18-band spectral sky matrix (rdc -cs 18 coefficients multiply it with rmtx):
+    rspecsky -cs 18 -m 1 -of london.epw > sky18.smx
   A gendaylit-style sky for 2 March 12:30, from the weather file or given irradiances:
     rspecsky --at \"3 2 12.5\" london.epw > sky.rad
     rspecsky --at \"3 2 12.5\" -W 838 79 -a 51.15 -o 0.18 -m 0 > sky.rad
@@ -123,6 +126,17 @@ struct Cli {
     #[arg(short = 'a', value_name = "LAT", allow_negative_numbers = true)]
     latitude: Option<f64>,
 
+    /// Spectral matrix with N bands (Radiance's -cs N; also written -cs N): the same Perez
+    /// sky with a CIE daylight spectrum per part and time step, NCOMP=N and
+    /// WAVELENGTH_SPLITS= in the header, photopically equal to the RGB matrix
+    /// (rdaylight::sky::spectral documents the spectra).
+    #[arg(long = "cs", value_name = "N")]
+    cs: Option<usize>,
+
+    /// Wavelength range of the -cs bands in nm (Radiance's -cw; default 380 780).
+    #[arg(long = "cw", num_args = 2, value_names = ["MIN", "MAX"])]
+    cw: Option<Vec<f64>>,
+
     /// Print help.
     #[arg(long = "help", action = clap::ArgAction::Help)]
     help: Option<bool>,
@@ -166,7 +180,13 @@ fn colours(m: &clap::ArgMatches, cli: &Cli, mut c: Colours) -> Colours {
 }
 
 fn real_main() -> Result<(), Error> {
-    let m = Cli::command().get_matches();
+    // Radiance spells the spectral options -cs/-cw; clap's short -c is the sky colour.
+    let args = std::env::args().map(|a| match a.as_str() {
+        "-cs" => "--cs".to_string(),
+        "-cw" => "--cw".to_string(),
+        _ => a,
+    });
+    let m = Cli::command().get_matches_from(args);
     let cli = Cli::from_arg_matches(&m).unwrap_or_else(|e| e.exit());
     if let Some(out) = cli.output {
         if out > 1 {
@@ -239,6 +259,16 @@ fn real_main() -> Result<(), Error> {
         }
     };
 
+    let spectral = match (cli.cs, &cli.cw) {
+        (None, None) => None,
+        (n, cw) => {
+            let (lo, hi) = match cw.as_deref() {
+                Some([a, b]) => (*a, *b),
+                _ => (380.0, 780.0),
+            };
+            Some(Channels::spectral(n.unwrap_or(18), lo, hi)?)
+        }
+    };
     let mut header = Header::new();
     header.push_command(std::env::args());
     header.set("LATLONG", format!(" {}", latlong(&weather)));
@@ -251,7 +281,24 @@ fn real_main() -> Result<(), Error> {
         FLOAT_DIGITS
     };
     let out = std::io::BufWriter::with_capacity(1 << 16, std::io::stdout().lock());
-    if cli.average {
+    if let Some(ch) = spectral {
+        let mtx = spectral_sky_matrix(&patches, &steps, &site, &opts, &ch, &progress);
+        let ncols = if cli.average { 1 } else { mtx.ncols() };
+        if cli.average {
+            header.set("NAVERAGED", mtx.ncols());
+        }
+        let mut w =
+            MatrixWriter::new(out, "<stdout>", header, Some(mtx.nrows()), ncols, ch, wopts)?;
+        let mut row = Vec::new();
+        for p in 0..mtx.nrows() {
+            mtx.row(p, &mut row);
+            if cli.average {
+                row = average_columns(&row, ch.ncomp, mtx.ncols());
+            }
+            w.write_row(&row)?;
+        }
+        w.finish()?.flush().map_err(|e| Error::io("<stdout>", e))?;
+    } else if cli.average {
         let (col, n) = average_column(&patches, &steps, &site, &opts, &progress);
         header.set("NAVERAGED", n);
         let mut w = MatrixWriter::new(
@@ -288,6 +335,17 @@ fn real_main() -> Result<(), Error> {
     Ok(())
 }
 
+/// The mean over `ncols` columns of a row of `ncomp`-channel values (gendaymtx -A).
+fn average_columns(row: &[f64], ncomp: usize, ncols: usize) -> Vec<f64> {
+    let mut out = vec![0.0; ncomp];
+    for c in row.chunks_exact(ncomp) {
+        for (o, v) in out.iter_mut().zip(c) {
+            *o += v;
+        }
+    }
+    out.iter().map(|s| s / ncols.max(1) as f64).collect()
+}
+
 /// `--at`: one gendaylit sky as scene text.
 fn point_sky(m: &clap::ArgMatches, cli: &Cli) -> Result<(), Error> {
     let at = cli.at.as_deref().unwrap_or_default();
@@ -320,6 +378,7 @@ fn point_sky(m: &clap::ArgMatches, cli: &Cli) -> Result<(), Error> {
         (cli.interval.is_some(), "-i"),
         (cli.rotation.is_some(), "-r"),
         (cli.no_header, "-h"),
+        (cli.cs.is_some() || cli.cw.is_some(), "-cs/-cw"),
     ] {
         if set {
             return Err(Error::Usage(format!("{what} is not used with --at")));

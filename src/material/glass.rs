@@ -39,6 +39,9 @@ pub struct Glass {
     /// Normal-incidence transmissivity per channel, as given.
     pub transmissivity: Color,
     pub index: f64,
+    /// Colour of the patterns modifying the glass (`r->pcol`, e.g. a `specfile` of the
+    /// glazing's spectral transmittance): multiplies the transmission only (`glass.c`).
+    pub pattern: Option<Color>,
 }
 
 impl Glass {
@@ -46,7 +49,14 @@ impl Glass {
         Glass {
             transmissivity,
             index,
+            pattern: None,
         }
+    }
+
+    /// The same glass under a pattern colour (see [`Glass::pattern`]).
+    pub fn with_pattern(mut self, pattern: Option<Color>) -> Glass {
+        self.pattern = pattern.filter(|p| p.ncomp() == self.transmissivity.ncomp());
+        self
     }
 
     /// Radiance's `hastrans`: any channel above 1e-15 (`intens`). Opaque "glass" reflects only
@@ -78,6 +88,10 @@ impl Glass {
             })
         } else {
             Color::black(t.ncomp())
+        };
+        let tr = match self.pattern {
+            Some(p) => tr * p,
+            None => tr,
         };
         let re = t.map(|d| {
             let d = d * d;

@@ -46,6 +46,7 @@ pub mod emitter;
 pub mod glass;
 pub mod mirror;
 pub mod sampling;
+pub mod spectrum;
 pub mod ward;
 
 use crate::error::{Error, Location, Result};
@@ -374,6 +375,25 @@ impl Material {
         loc: &Location,
         id: &str,
     ) -> Result<Option<Material>> {
+        Self::build_patterned(p, ch, opts, loc, id, None)
+    }
+
+    /// Build with the colour of constant patterns (`spectrum`, `specfile`; see
+    /// [`spectrum`]) that modify the material: Radiance's `r->pcol`. It multiplies the
+    /// material colour of `plastic`/`metal`/`trans` (`normal.c`), `mirror` and emitters
+    /// (`source.c`), and only the transmission of `glass` (`glass.c`).
+    pub fn build_patterned(
+        p: &Primitive,
+        ch: &Channels,
+        opts: &ShadingOptions,
+        loc: &Location,
+        id: &str,
+        pattern: Option<Color>,
+    ) -> Result<Option<Material>> {
+        let tint = |c: Color| match pattern {
+            Some(pc) if pc.ncomp() == c.ncomp() => c * pc,
+            _ => c,
+        };
         let bad =
             |msg: String| Error::parse(loc.clone(), format!("{} '{id}' {msg}", p.type_name()));
         let rgb = |c: &[f64]| -> Result<[f64; 3]> {
@@ -406,7 +426,7 @@ impl Material {
                 rough: r,
             } => Material::Ward(Ward::new(
                 WardKind::Plastic,
-                to_channels(rgb(color)?, ch),
+                tint(to_channels(rgb(color)?, ch)),
                 unit("specularity", *spec)?,
                 rough(*r)?,
                 0.0,
@@ -419,7 +439,7 @@ impl Material {
                 rough: r,
             } => Material::Ward(Ward::new(
                 WardKind::Metal,
-                to_channels(rgb(color)?, ch),
+                tint(to_channels(rgb(color)?, ch)),
                 unit("specularity", *spec)?,
                 rough(*r)?,
                 0.0,
@@ -434,7 +454,7 @@ impl Material {
                 tspec,
             } => Material::Ward(Ward::new(
                 WardKind::Trans,
-                to_channels(rgb(color)?, ch),
+                tint(to_channels(rgb(color)?, ch)),
                 unit("specularity", *spec)?,
                 rough(*r)?,
                 unit("transmissivity", *trans)?,
@@ -451,14 +471,16 @@ impl Material {
                         "has refractive index {n}; expected a finite value > 0"
                     )));
                 }
-                Material::Glass(Glass::new(to_channels(rgb(transmissivity)?, ch), n))
+                Material::Glass(
+                    Glass::new(to_channels(rgb(transmissivity)?, ch), n).with_pattern(pattern),
+                )
             }
             Primitive::Mirror { alternate, color } => Material::Mirror(Mirror {
-                color: to_channels(rgb(color)?, ch),
+                color: tint(to_channels(rgb(color)?, ch)),
                 alternate: alternate.clone().filter(|a| a != "void"),
             }),
             Primitive::Light { color } => Material::Emitter(Emitter {
-                color: to_channels(rgb(color)?, ch),
+                color: tint(to_channels(rgb(color)?, ch)),
                 kind: EmitterKind::Light,
             }),
             Primitive::Glow { color, max_radius } => {
@@ -468,14 +490,14 @@ impl Material {
                     )));
                 }
                 Material::Emitter(Emitter {
-                    color: to_channels(rgb(color)?, ch),
+                    color: tint(to_channels(rgb(color)?, ch)),
                     kind: EmitterKind::Glow {
                         max_radius: *max_radius,
                     },
                 })
             }
             Primitive::Illum { alternate, color } => Material::Emitter(Emitter {
-                color: to_channels(rgb(color)?, ch),
+                color: tint(to_channels(rgb(color)?, ch)),
                 kind: EmitterKind::Illum {
                     alternate: alternate.clone().filter(|a| a != "void"),
                 },

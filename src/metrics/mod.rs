@@ -16,6 +16,7 @@
 pub mod annual;
 pub mod compare;
 pub mod map;
+pub mod melanopic;
 pub mod report;
 pub mod schedule;
 

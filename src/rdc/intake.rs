@@ -45,6 +45,9 @@ pub const SUPPORTED: &[&str] = &[
     "glass",
     "mirror",
     "illum",
+    "spectrum",
+    "specfile",
+    "specpict",
 ];
 
 /// A sky pattern evaluated natively.
@@ -137,7 +140,9 @@ impl Sky {
     /// Scene colours are RGB; other channel counts are only possible for grey emitters
     /// (RGB-to-spectrum conversion belongs to the material work).
     pub fn check_channels(&self, ncomp: usize) -> Result<()> {
-        if ncomp == 3 {
+        // Values are traced with trace::compile's sources, whose colours go through
+        // material::to_channels (Radiance's setscolor), so any layout works there.
+        if ncomp >= 3 {
             return Ok(());
         }
         for s in self.glows.iter().chain(&self.suns) {
@@ -258,6 +263,14 @@ fn pattern_of(scene: &Scene, m: usize) -> Result<Option<SkyFunction>> {
         let o = &scene.objects[p];
         if o.class() == Class::Material {
             break;
+        }
+        // Spectral patterns colour the source (trace::compile applies them).
+        if matches!(
+            o.kind,
+            Primitive::Spectrum { .. } | Primitive::SpecFile { .. }
+        ) || o.type_name() == "specpict"
+        {
+            continue;
         }
         let Primitive::BrightFunc {
             function,

@@ -29,6 +29,8 @@ pub mod patches;
 pub mod perez;
 pub mod pointsky;
 pub mod solar;
+pub mod specpict;
+pub mod spectral;
 
 pub use cie::{CieSky, CieSkyDescription, GenskyOptions};
 pub use patches::SkyPatches;

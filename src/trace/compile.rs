@@ -12,9 +12,14 @@
 //!   negated radii; a cone with equal radii is a cylinder.
 //! - `source` primitives become [`DistantSource`]s (see [`super::sources`]).
 //!
+//! - Constant spectral patterns (`spectrum`, `specfile`, Radiance 6) anywhere between a
+//!   surface or source and its material, or modifying the material, multiply the material's
+//!   colour ([`crate::material::spectrum`]): spectral reflectance of walls, spectral
+//!   transmittance of glazing, spectral suns and skies (together with a sky `brightfunc`).
+//!
 //! Refused with `Error::unsupported` at the object's `file:line` (so nothing is silently
-//! rendered wrong): `instance`, `mesh` and other surface types; patterns, textures and
-//! mixtures on surfaces; materials other than plastic/metal/trans/glass/mirror/glow (e.g.
+//! rendered wrong): `instance`, `mesh` and other surface types; other patterns, textures and
+//! mixtures on surfaces (`specdata`, `specpict`, which need `.cal` evaluation, included); materials other than plastic/metal/trans/glass/mirror/glow (e.g.
 //! BSDF, `spotlight`); *local* direct sources (`light`, `illum`, `glow` with maxrad > 0 on
 //! surfaces: no next-event estimation to surfaces yet); `mirror`/`illum` alternate
 //! materials; patterns on distant sources other than the two sky functions above.
@@ -22,9 +27,10 @@
 use super::sources::{DistantKind, DistantSource, SkyPattern, Sources};
 use crate::error::{Error, Result};
 use crate::geometry::{Bvh, Object as GeoObject, Shape, Vec3};
-use crate::material::{Emitter, EmitterKind, Material, ShadingOptions};
+use crate::material::spectrum::Sampled;
+use crate::material::{Color, Emitter, EmitterKind, Material, ShadingOptions};
 use crate::radiometry::Channels;
-use crate::scene::{Class, Object, Primitive, Scene};
+use crate::scene::{Class, OType, Object, Primitive, Scene};
 
 /// One traced surface.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -67,9 +73,65 @@ fn unsupported(o: &Object, what: impl Into<String>) -> Error {
     Error::unsupported(o.loc.clone(), what)
 }
 
-/// The sky pattern of a distant glow from the patterns modifying its material.
-fn sky_pattern(scene: &Scene, src: &Object, material: usize) -> Result<SkyPattern> {
-    let pats = scene.patterns_of(material);
+/// Whether object `k` is a constant spectral pattern ([`spectral_color`] handles it).
+fn is_spectral(scene: &Scene, k: usize) -> bool {
+    matches!(
+        scene.objects[k].kind,
+        Primitive::Spectrum { .. } | Primitive::SpecFile { .. }
+    )
+}
+
+/// The product of the constant spectral patterns among `patterns` in the run's channels
+/// (`None` when there are none).
+fn spectral_color(
+    scene: &Scene,
+    patterns: impl IntoIterator<Item = usize>,
+    ch: &Channels,
+) -> Result<Option<Color>> {
+    let mut out: Option<Color> = None;
+    for k in patterns {
+        let o = &scene.objects[k];
+        let s = match &o.kind {
+            Primitive::Spectrum { nm_a, nm_b, values } => {
+                Sampled::new(*nm_a, *nm_b, values.clone())
+            }
+            Primitive::SpecFile { file, data } => match data {
+                Some(d) => Sampled::from_data(d),
+                None => {
+                    return Err(Error::parse(
+                        o.loc.clone(),
+                        format!(
+                            "specfile '{}': data file '{file}' not found (looked beside the scene file and on RAYPATH)",
+                            o.id
+                        ),
+                    ));
+                }
+            },
+            _ => continue,
+        };
+        if !s.values.iter().all(|v| v.is_finite()) {
+            return Err(Error::parse(
+                o.loc.clone(),
+                format!("{} '{}' has a non-finite value", o.type_name(), o.id),
+            ));
+        }
+        let c = s.to_channels(ch);
+        out = Some(match out {
+            Some(p) => p * c,
+            None => c,
+        });
+    }
+    Ok(out)
+}
+
+/// The sky pattern of a distant glow from the patterns modifying its material (spectral
+/// patterns are taken apart by [`spectral_color`]).
+fn sky_pattern(scene: &Scene, src: &Object, material: usize, ch: &Channels) -> Result<SkyPattern> {
+    let pats: Vec<usize> = scene
+        .patterns_of(material)
+        .into_iter()
+        .filter(|&k| !is_spectral(scene, k))
+        .collect();
     match pats.as_slice() {
         [] => Ok(SkyPattern::Uniform),
         [p] => {
@@ -115,6 +177,11 @@ fn sky_pattern(scene: &Scene, src: &Object, material: usize) -> Result<SkyPatter
                         )),
                     }
                 }
+                Primitive::Other {
+                    otype: OType::SpecPict,
+                    strings,
+                    reals,
+                } => specpict(po, strings, reals, ch),
                 _ => Err(unsupported(
                     po,
                     format!(
@@ -137,6 +204,46 @@ fn sky_pattern(scene: &Scene, src: &Object, material: usize) -> Result<SkyPatter
             ))
         }
     }
+}
+
+/// genssky's `specpict` sky (see [`crate::sky::specpict`]): only its own mapping.
+fn specpict(po: &Object, strings: &[String], reals: &[f64], ch: &Channels) -> Result<SkyPattern> {
+    use crate::sky::specpict::{GENSSKY_X, GENSSKY_Y, SpecPictSky, find_file};
+    let clean = |s: &str| -> String {
+        s.trim_matches(|c| c == '\'' || c == '"')
+            .chars()
+            .filter(|c| !c.is_whitespace())
+            .collect()
+    };
+    let ok = match strings {
+        [f, _, cal, x, y] => {
+            f == "noop" && cal == "." && clean(x) == GENSSKY_X && clean(y) == GENSSKY_Y
+        }
+        _ => false,
+    } && reals.is_empty();
+    if !ok {
+        return Err(unsupported(
+            po,
+            format!(
+                "specpict '{}' with arguments {strings:?} {reals:?}; supported: genssky's \
+                 `noop FILE . '{GENSSKY_X}' '{GENSSKY_Y}'` and no real arguments",
+                po.id
+            ),
+        ));
+    }
+    let file = &strings[1];
+    let path = find_file(file, &po.loc.file).ok_or_else(|| {
+        Error::parse(
+            po.loc.clone(),
+            format!(
+                "specpict '{}': picture '{file}' not found (looked beside the scene file, in the working folder and on RAYPATH)",
+                po.id
+            ),
+        )
+    })?;
+    Ok(SkyPattern::SpecPict(std::sync::Arc::new(
+        SpecPictSky::load(&path, ch)?,
+    )))
 }
 
 fn distant_source(
@@ -163,10 +270,10 @@ fn distant_source(
         return Ok(None);
     };
     // Patterns between the source and its material.
-    if let Some(p) = scene
-        .modifier_chain(i)
-        .take_while(|&k| k != m)
-        .find(|&k| scene.objects[k].class() != Class::Material)
+    let between: Vec<usize> = scene.modifier_chain(i).take_while(|&k| k != m).collect();
+    if let Some(&p) = between
+        .iter()
+        .find(|&&k| scene.objects[k].class() != Class::Material && !is_spectral(scene, k))
     {
         let po = &scene.objects[p];
         return Err(unsupported(
@@ -178,7 +285,8 @@ fn distant_source(
         ));
     }
     let mo = &scene.objects[m];
-    let mat = Material::from_object(mo, ch, opts)?;
+    let pcol = spectral_color(scene, between.into_iter().chain(scene.patterns_of(m)), ch)?;
+    let mat = Material::build_patterned(&mo.kind, ch, opts, &mo.loc, &mo.id, pcol)?;
     let Some(Material::Emitter(Emitter { color, kind })) = mat else {
         // Radiance: a source with a non-emitting material is no light source; rays that
         // escape towards it see nothing.
@@ -189,7 +297,11 @@ fn distant_source(
     }
     let kind = match kind {
         EmitterKind::Light => {
-            if !scene.patterns_of(m).is_empty() {
+            if scene
+                .patterns_of(m)
+                .into_iter()
+                .any(|k| !is_spectral(scene, k))
+            {
                 return Err(unsupported(
                     mo,
                     format!("pattern on light source material '{}'", mo.id),
@@ -209,7 +321,7 @@ fn distant_source(
     let pattern = if kind == DistantKind::Light {
         SkyPattern::Uniform
     } else {
-        sky_pattern(scene, o, m)?
+        sky_pattern(scene, o, m, ch)?
     };
     Ok(Some(DistantSource::new(
         o.id.clone(),
@@ -297,8 +409,9 @@ impl Renderable {
         let mut geo: Vec<GeoObject> = Vec::new();
         let mut surfaces = Vec::new();
         let mut materials: Vec<Material> = Vec::new();
-        // Scene index of a material -> index in `materials`.
-        let mut mat_index: std::collections::HashMap<usize, u32> = Default::default();
+        // (Scene index of a material, spectral patterns between surface and material) ->
+        // index in `materials`.
+        let mut mat_index: std::collections::HashMap<(usize, Vec<usize>), u32> = Default::default();
         let mut sources = Sources::default();
         for (i, o) in scene.objects.iter().enumerate() {
             match &o.kind {
@@ -324,11 +437,12 @@ impl Renderable {
             let Some(m) = scene.material_of(i) else {
                 continue; // void: transparent to every ray (see the module documentation)
             };
-            if let Some(p) = scene
-                .modifier_chain(i)
-                .take_while(|&k| k != m)
+            let between: Vec<usize> = scene.modifier_chain(i).take_while(|&k| k != m).collect();
+            if let Some(p) = between
+                .iter()
+                .copied()
                 .chain(scene.patterns_of(m))
-                .next()
+                .find(|&k| !is_spectral(scene, k))
             {
                 let po = &scene.objects[p];
                 return Err(unsupported(
@@ -341,16 +455,23 @@ impl Renderable {
                     ),
                 ));
             }
-            let mi = match mat_index.get(&m) {
+            let key = (m, between);
+            let mi = match mat_index.get(&key) {
                 Some(&k) => k,
                 None => {
                     let mo = &scene.objects[m];
-                    let mat = Material::from_object(mo, ch, opts)?.ok_or_else(|| {
-                        unsupported(
-                            mo,
-                            format!("material '{}' of type {}", mo.id, mo.type_name()),
-                        )
-                    })?;
+                    let pcol = spectral_color(
+                        scene,
+                        key.1.iter().copied().chain(scene.patterns_of(m)),
+                        ch,
+                    )?;
+                    let mat = Material::build_patterned(&mo.kind, ch, opts, &mo.loc, &mo.id, pcol)?
+                        .ok_or_else(|| {
+                            unsupported(
+                                mo,
+                                format!("material '{}' of type {}", mo.id, mo.type_name()),
+                            )
+                        })?;
                     match &mat {
                         Material::Emitter(e) if e.is_direct_source(false) => {
                             return Err(unsupported(
@@ -379,7 +500,7 @@ impl Renderable {
                     }
                     let k = materials.len() as u32;
                     materials.push(mat);
-                    mat_index.insert(m, k);
+                    mat_index.insert(key, k);
                     k
                 }
             };

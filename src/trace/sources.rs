@@ -34,6 +34,8 @@ pub enum SkyPattern {
     SkyBright(Vec<f64>),
     /// `perezlum.cal` `skybright` with gendaylit's 10 real arguments.
     PerezLum([f64; 10]),
+    /// genssky's `specpict` sky picture (spectral; see [`crate::sky::specpict`]).
+    SpecPict(std::sync::Arc<crate::sky::specpict::SpecPictSky>),
 }
 
 impl SkyPattern {
@@ -43,6 +45,8 @@ impl SkyPattern {
             SkyPattern::Uniform => 1.0,
             SkyPattern::SkyBright(a) => crate::sky::cie::skybright(dir.to_array(), a),
             SkyPattern::PerezLum(a) => crate::sky::perez::perezlum(dir.to_array(), a),
+            // Spectral: applied per channel by `DistantSource::radiance`.
+            SkyPattern::SpecPict(_) => 1.0,
         }
     }
 }
@@ -104,8 +108,9 @@ impl DistantSource {
 
     /// Radiance towards the scene along `-dir` (colour x pattern).
     pub fn radiance(&self, dir: Vec3) -> Color {
-        match self.pattern {
+        match &self.pattern {
             SkyPattern::Uniform => self.color,
+            SkyPattern::SpecPict(p) => self.color * p.lookup(dir.to_array()),
             _ => self.color.scale(self.pattern.factor(dir)),
         }
     }
