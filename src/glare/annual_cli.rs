@@ -148,7 +148,7 @@ impl AnnualArgs {
         }
         let weather =
             weather.ok_or_else(|| Error::Usage(format!("no weather file (-w FILE); {USAGE}")))?;
-        if view.vh == 0.0 || view.vv == 0.0 {
+        if rest.len() == raw.len() {
             return Err(Error::Usage(format!(
                 "no view: give -vf FILE or -vta -vp x y z -vd dx dy dz -vu ux uy uz -vh 180 -vv 180; {USAGE}"
             )));
