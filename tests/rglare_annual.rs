@@ -51,6 +51,7 @@ struct Row {
     ev_sun: f64,
     nsrc: usize,
     sun: bool,
+    dcglare: f64,
 }
 
 fn parse_rows(text: &str) -> Vec<Row> {
@@ -58,7 +59,7 @@ fn parse_rows(text: &str) -> Vec<Row> {
         .filter(|l| !l.starts_with('#'))
         .map(|l| {
             let f: Vec<&str> = l.split_whitespace().collect();
-            assert_eq!(f.len(), 8, "{l}");
+            assert_eq!(f.len(), 9, "{l}");
             Row {
                 month: f[0].parse().unwrap(),
                 day: f[1].parse().unwrap(),
@@ -68,6 +69,7 @@ fn parse_rows(text: &str) -> Vec<Row> {
                 ev_sun: f[5].parse().unwrap(),
                 nsrc: f[6].parse().unwrap(),
                 sun: f[7] == "1",
+                dcglare: f[8].parse().unwrap(),
             }
         })
         .collect()
@@ -157,7 +159,7 @@ fn imageless_dgp_agrees_with_evalglare_on_rpict_pictures() {
         let d = r.dgp - dgp;
         let dev = (r.ev - ev) / ev;
         println!(
-            "{:>2}/{:>2} {:>5.1}      {:.3}        {:.3}     {:+.3}  {:>8.0}  {:>8.0}   {:+6.1}   {}/{}   {:.0}/{:.0}",
+            "{:>2}/{:>2} {:>5.1}      {:.3}        {:.3}     {:+.3}  {:>8.0}  {:>8.0}   {:+6.1}   {}/{}   {:.0}/{:.0}  {:.3}",
             r.month,
             r.day,
             r.hour,
@@ -170,7 +172,8 @@ fn imageless_dgp_agrees_with_evalglare_on_rpict_pictures() {
             u8::from(r.sun),
             u8::from(sun.is_some()),
             r.ev_sun,
-            sun.unwrap_or(0.0)
+            sun.unwrap_or(0.0),
+            r.dcglare
         );
         assert_eq!(
             r.sun,

@@ -118,6 +118,11 @@ pub struct Coefficients {
     pub eye_sky: Vec<f64>,
     /// Eye sensor, per patch: `179 Y(C_eye[p] − C_eye,d[p])`.
     pub eye_sun: Vec<f64>,
+    /// Eye sensor direct-only, per patch: `179 Y(C_eye,d[p] ⊙ colour[p])` (dcglare's
+    /// `DCdirect` times the sky colour).
+    pub eye_direct_sky: Vec<f64>,
+    /// Eye sensor direct-only, per patch: `179 Y(C_eye,d[p])` (white, for the sun).
+    pub eye_direct_sun: Vec<f64>,
     /// Per weather step: `179 Y(C_sun,t)` = T cos θ Ω_sun (lx per unit sun radiance).
     pub sun_direct: Vec<f64>,
 }
@@ -223,6 +228,10 @@ pub fn coefficients(
         ray_sky,
         ray_sun,
         eye_sky: per_patch_sky(&eye_total[0].values),
+        eye_direct_sky: per_patch_sky(&eye_direct[0].values),
+        eye_direct_sun: (0..npatch)
+            .map(|p| luminance(&eye_direct[0].values[p * 3..p * 3 + 3], &WHITE))
+            .collect(),
         eye_sun: per_patch_diff(&eye_total[0].values, &eye_direct[0].values),
         sun_direct,
     })
@@ -245,6 +254,8 @@ pub struct StepResult {
     pub lmax: f64,
     /// Threshold used (cd/m²).
     pub threshold: f64,
+    /// dcglare's enhanced simplified DGP for the same step ([`dcglare_edgps`]).
+    pub dgp_dcglare: f64,
 }
 
 /// The sky of one step: per-patch scalars (sky and ground, before colour), the smeared sun
@@ -314,6 +325,7 @@ fn evaluate_step(
     } else {
         o.threshold * ev / metrics::PI_EG
     };
+    let dgp_dcglare = dcglare_edgps(c, sky, vdir, vup, o.threshold);
     if ev <= 0.0 {
         return StepResult {
             threshold,
@@ -361,7 +373,129 @@ fn evaluate_step(
         sun_in_view: sun_source.is_some(),
         lmax,
         threshold,
+        dgp_dcglare,
     }
+}
+
+/// dcglare's position index (`get_guth` in `src/util/cmglare.c`, Radiance 6): Guth above
+/// the line of sight, with τ measured from `D + d/cos σ` (where evalglare uses
+/// `d/cos σ − D`); below it the Iwata/Osterhaus form `P = 1 + f r`,
+/// `r = min(3, √((1 + s²)/d²))`, `d = 1/tan φ`, `s = tan θ/tan φ`, θ the horizontal angle,
+/// `f = 0.8`, 1.2 when `r > 0.6`; capped at 16.
+pub fn dcglare_posindex(dir: V3, forward: V3, up: V3) -> f64 {
+    let cross = |a: V3, b: V3| {
+        [
+            a[1] * b[2] - a[2] * b[1],
+            a[2] * b[0] - a[0] * b[2],
+            a[0] * b[1] - a[1] * b[0],
+        ]
+    };
+    let unit = |v: V3| {
+        let l = dot(v, v).sqrt();
+        if l == 0.0 {
+            v
+        } else {
+            [v[0] / l, v[1] / l, v[2] / l]
+        }
+    };
+    let angle = |a: V3, b: V3| dot(a, b).clamp(-1.0, 1.0).acos();
+    let hv = unit(cross(forward, up));
+    let vert = cross(forward, hv);
+    let phi = angle(dir, vert) - std::f64::consts::FRAC_PI_2;
+    let p = if phi >= 0.0 {
+        let sigma = angle(dir, forward).abs().to_degrees();
+        let c = dot(dir, forward);
+        let h = unit([
+            forward[0] + dir[0] / c,
+            forward[1] + dir[1] / c,
+            forward[2] + dir[2] / c,
+        ]);
+        let tau = angle(h, up).to_degrees();
+        ((35.2 - 0.31889 * tau - 1.22 * (-2.0 * tau / 9.0).exp()) / 1000.0 * sigma
+            + (21.0 + 0.26667 * tau - 0.002963 * tau * tau) / 100000.0 * sigma * sigma)
+            .exp()
+    } else {
+        let mut teta = std::f64::consts::FRAC_PI_2 - angle(dir, hv);
+        if teta == 0.0 {
+            teta = 1e-9;
+        }
+        let d = 1.0 / phi.tan();
+        let s = teta.tan() / phi.tan();
+        let r = ((1.0 + s * s) / (d * d)).sqrt();
+        let fact = if r > 0.6 { 1.2 } else { 0.8 };
+        1.0 + fact * r.min(3.0)
+    };
+    p.min(16.0)
+}
+
+/// dcglare's enhanced simplified DGP (`cm_glare` in `src/util/cmglare.c`; Jones 2019) from
+/// the eye sensor alone, for comparison: E_v from the total coefficients with the
+/// gendaymtx sky (sun spread over patches, no exact disc); every sky patch seen directly
+/// (`DCdirect`) whose luminance `DCdirect·s/(ω cos θ)` reaches the threshold is a source
+/// (ground: towards the centre of the visible ground, ω the visible ground's solid angle);
+/// `5.87e-5 E_v + 0.0918 log10(1 + Σ L²ω/P²/E_v^1.87) + 0.16`, the low-light factor below
+/// 1000 lx always, capped at 1; 0 without light.
+fn dcglare_edgps(c: &Coefficients, sky: &StepSky, vdir: V3, vup: V3, thr: f64) -> f64 {
+    let mut ev: f64 = c.eye_sky.iter().zip(&sky.scalar).map(|(a, s)| a * s).sum();
+    let mut sun = vec![0.0; c.npatch];
+    for &(p, r) in &sky.sun {
+        ev += (c.eye_sun[p] + c.eye_direct_sun[p]) * r;
+        sun[p] += r;
+    }
+    if ev <= 1e-6 {
+        return 0.0;
+    }
+    let patches = patches_for(c.npatch);
+    let min_lum = if thr < THRESHOLD_FACTOR_LIMIT {
+        thr * ev / std::f64::consts::PI
+    } else {
+        thr
+    };
+    let mut sum = 0.0;
+    for (p, &sun_p) in sun.iter().enumerate() {
+        let e = c.eye_direct_sky[p] * sky.scalar[p] + c.eye_direct_sun[p] * sun_p;
+        if e <= 0.0 {
+            continue;
+        }
+        let dir = if p == 0 {
+            let g = [vdir[0], vdir[1], vdir[2] - 1.0];
+            let l = dot(g, g).sqrt();
+            if l == 0.0 {
+                continue;
+            }
+            [g[0] / l, g[1] / l, g[2] / l]
+        } else {
+            patches.centre(p)
+        };
+        let cos = dot(vdir, dir);
+        if cos <= 1e-9 {
+            continue;
+        }
+        let omega = if p == 0 {
+            2.0 * (std::f64::consts::PI - 2.0 * cos.acos())
+        } else {
+            patches.solid_angle(p)
+        };
+        let lum = e / (omega * cos);
+        if lum < min_lum {
+            continue;
+        }
+        let pos = dcglare_posindex(dir, vdir, vup);
+        sum += lum * lum * omega / (pos * pos);
+    }
+    let mut d = 5.87e-5 * ev + 0.0918 * (1.0 + sum / ev.powf(1.87)).log10() + 0.16;
+    if ev < 1000.0 {
+        d *= metrics::low_light_factor(ev);
+    }
+    d.min(1.0)
+}
+
+/// The Reinhart sky with `npatch` patches (ground included).
+fn patches_for(npatch: usize) -> SkyPatches {
+    let mf = (1..=crate::rdc::run::MAX_MF)
+        .find(|&m| 144 * m * m + 2 == npatch)
+        .unwrap_or(1);
+    SkyPatches::new(mf)
 }
 
 /// Glare sources: rays above `threshold`, 8-connected groups merged (Σω, Σ Lω/Σω, the
@@ -426,15 +560,13 @@ pub fn evaluate(
         )));
     }
     let site = radiance_site(weather);
-    let mf = SkyPatches::new(1);
-    let patches = if c.npatch == mf.len() {
-        mf
-    } else {
-        let m = (1..=crate::rdc::run::MAX_MF)
-            .find(|&m| 144 * m * m + 2 == c.npatch)
-            .ok_or_else(|| Error::Mismatch(format!("{} patches: not a Reinhart sky", c.npatch)))?;
-        SkyPatches::new(m)
-    };
+    let patches = patches_for(c.npatch);
+    if patches.len() != c.npatch {
+        return Err(Error::Mismatch(format!(
+            "{} patches: not a Reinhart sky",
+            c.npatch
+        )));
+    }
     Ok(steps
         .par_iter()
         .enumerate()
@@ -535,6 +667,19 @@ mod tests {
         assert!((s[0].omega - w).abs() < 1e-12 && (s[0].lum - lw / w).abs() < 1e-9);
         assert!(s[0].sigma < 0.2 && s[1].sigma > 1.2);
         assert!(s[1].pos > s[0].pos);
+    }
+
+    #[test]
+    fn dcglare_position_index_ahead_and_below() {
+        let (f, up) = ([0.0, -1.0, 0.0], [0.0, 0.0, 1.0]);
+        assert!((dcglare_posindex(f, f, up) - 1.0).abs() < 1e-9);
+        // 20° straight below: θ = 0, r = |tan φ| = 0.364 ≤ 0.6, P = 1 + 0.8 r
+        let a = 20f64.to_radians();
+        let p = dcglare_posindex([0.0, -a.cos(), -a.sin()], f, up);
+        assert!((p - (1.0 + 0.8 * a.tan())).abs() < 1e-9, "{p}");
+        // far off-axis above: capped
+        let b = 85f64.to_radians();
+        assert_eq!(dcglare_posindex([0.0, -b.cos(), b.sin()], f, up), 16.0);
     }
 
     #[test]

@@ -11,7 +11,7 @@
 //! rpict's. Output (`-o`, default standard output): `#` lines stating the method,
 //! threshold, view, occupancy and the summary (glare autonomy, shares above 0.35/0.40/0.45,
 //! EN 17037 class), then one line per weather step in file order:
-//! `month day hour DGP Ev Ev_sun nsources sun_in_view`.
+//! `month day hour DGP Ev Ev_sun nsources sun_in_view DGP_dcglare`.
 
 use super::annual::{self, AnnualOptions, Summary};
 use super::viewrays::ViewRays;
@@ -237,11 +237,18 @@ pub fn report(
         "# EN 17037 glare protection (limit exceeded in <= 5 % of occupied steps): {}",
         summary.en17037
     );
-    let _ = writeln!(s, "# month day hour DGP Ev Ev_sun nsources sun_in_view");
+    let _ = writeln!(
+        s,
+        "# DGP_dcglare: dcglare's enhanced simplified DGP from the eye sensor alone (sky patches seen directly as sources, sun spread over patches), for comparison"
+    );
+    let _ = writeln!(
+        s,
+        "# month day hour DGP Ev Ev_sun nsources sun_in_view DGP_dcglare"
+    );
     for (st, r) in weather.steps.iter().zip(results) {
         let _ = writeln!(
             s,
-            "{} {} {} {:.4} {:.1} {:.1} {} {}",
+            "{} {} {} {:.4} {:.1} {:.1} {} {} {:.4}",
             st.month,
             st.day,
             st.hour,
@@ -249,7 +256,8 @@ pub fn report(
             r.ev,
             r.ev_sun,
             r.nsources,
-            u8::from(r.sun_in_view)
+            u8::from(r.sun_in_view),
+            r.dgp_dcglare
         );
     }
     s
