@@ -7,11 +7,11 @@
 //! the summary's arithmetic and one-line errors.
 //!
 //! Tolerances come from the measured spread at this test's settings (32 × 32 view rays,
-//! -ab 2 -ad 64, eye sensor -ad 4096; see the table printed by
+//! -ab 2 -ad 128 as the pictures' rpict -ab 2, E_v from the rays; see the table printed by
 //! `cargo test --test rglare_annual -- --nocapture` and `radiance-fixtures/glare/annual/
 //! README.md`), not widened to pass:
 //! - the sun disc is in view (ours) exactly when evalglare finds a source brighter than
-//!   1e7 cd/m² (the sun's pixels) — every hour;
+//!   1e6 cd/m² (the sun's pixels, with evalglare's merged surroundings) — every hour;
 //! - sun out of view (7 hours): mean |ΔDGP| ≤ [`MEAN_DDGP_SUN_OUT`], max ≤
 //!   [`MAX_DDGP_SUN_OUT`], E_v within [`MAX_REL_EV_SUN_OUT`];
 //! - sun in view: both DGP ≥ 0.45 (EN 17037's "intolerable" side) — the picture's sun is
@@ -26,10 +26,14 @@ use std::path::Path;
 use std::process::Command;
 
 /// Measured at these settings: see the module documentation.
-const MEAN_DDGP_SUN_OUT: f64 = 0.05;
-const MAX_DDGP_SUN_OUT: f64 = 0.10;
-const MAX_REL_EV_SUN_OUT: f64 = 0.25;
-const MIN_CLASS_AGREEMENT: usize = 11;
+/// Seeds 0..=4 at these settings gave mean |ΔDGP| 0.0035 to 0.0057, max |ΔDGP| 0.0096 to
+/// 0.0150, max |ΔE_v| 2.1 % to 3.0 % and the same class in 13 of 14 hours (3/20 12:30,
+/// DGP 0.398 for evalglare sits on the 0.40 class limit); the bounds are the worst seed
+/// rounded up.
+const MEAN_DDGP_SUN_OUT: f64 = 0.006;
+const MAX_DDGP_SUN_OUT: f64 = 0.016;
+const MAX_REL_EV_SUN_OUT: f64 = 0.035;
+const MIN_CLASS_AGREEMENT: usize = 13;
 
 const VIEW: [&str; 16] = [
     "-vta", "-vp", "3", "1.5", "1.2", "-vd", "0", "-1", "0", "-vu", "0", "0", "1", "-vh", "180",
@@ -114,7 +118,7 @@ fn evalglare(name: &str) -> (f64, f64, Option<f64>) {
         let f: Vec<f64> = l.split_whitespace().map(|v| v.parse().unwrap()).collect();
         // columns: No pixels x y L_s Omega_s Posindx L_b L_t E_v Edir Max_Lum Sigma xdir
         // ydir zdir Eglare ...
-        if f[4] > 1e7 {
+        if f[4] > 1e6 {
             sun = Some(sun.unwrap_or(0.0) + f[16]);
         }
     }
@@ -138,7 +142,7 @@ fn imageless_dgp_agrees_with_evalglare_on_rpict_pictures() {
         "-ab",
         "2",
         "-ad",
-        "64",
+        "128",
         "--eye-ad",
         "4096",
         "--occupied",

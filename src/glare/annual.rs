@@ -28,10 +28,21 @@
 //!
 //! ```text
 //! L_i  = 179 Y( C_ray,i · s_t  − C_ray0,i · s_t,sun )        rays (sun only as reflected)
-//! E_v  = 179 Y( C_eye · s_t − C_eye,d · s_t,sun + C_sun,t R_t )   DDS (Bourgeois et al. 2008)
-//! sun  = source of luminance 179 Y(C_sun,t R_t)/(cos θ Ω_sun), solid angle Ω_sun (0.533°)
+//! E_sun = 179 Y( C_sun,t ) R_t                                   the exact disc's E_v
+//! E_v  = Σ_i L_i cos θ_i ω_i + E_sun                             (default, `--ev rays`)
+//!      or 179 Y( C_eye · s_t − C_eye,d · s_t,sun ) + E_sun        (`--ev sensor`; DDS,
+//!                                                                 Bourgeois et al. 2008)
+//! sun  = source of luminance E_sun/(cos θ Ω_sun), solid angle Ω_sun (0.533°)
 //!        when the sun is in the view and not blocked
 //! ```
+//!
+//! Why E_v from the rays by default: it is what evalglare integrates from a picture, and
+//! the sensor's indirect-sun term rests on the few of its samples that leave through the
+//! window into the four sun patches, so it is noisy (measured: the 4/11 12:30 cross-check
+//! hour varied by ±7 % of E_v over seeds at `--eye-ad 65536`), while the rays pool
+//! `-ad` samples of thousands of rays (±1 % there at 32 × 32 rays, `-ad 128`). A view ray
+//! that hits a surface counts `-ab` bounces from there, as rpict does, so match rpict's
+//! `-ab` when comparing with pictures (the sensor's `-ab` counts the eye's own bounce).
 //!
 //! `Y` is Radiance's RGB luminance ([`RGB_PHOTOPIC`]). Subtracting the directly seen sun
 //! patches from the rays removes the smeared sun (a 0.17 sr patch group at 1e6 cd/m² would
@@ -88,6 +99,9 @@ pub struct AnnualOptions {
     pub model: PosModel,
     /// Sun disc apex angle (degrees).
     pub sun_angle: f64,
+    /// E_v from the view rays (Σ L cos θ ω, as evalglare integrates a picture) plus the
+    /// exact sun, instead of the eye sensor (`--ev rays|sensor`).
+    pub ev_from_rays: bool,
 }
 
 impl Default for AnnualOptions {
@@ -99,6 +113,7 @@ impl Default for AnnualOptions {
             dgp: DgpCoefficients::default(),
             model: PosModel::GuthIwata,
             sun_angle: 0.533,
+            ev_from_rays: true,
         }
     }
 }
@@ -320,18 +335,6 @@ fn evaluate_step(
         }
     }
     ev += ev_sun;
-    let threshold = if o.threshold > THRESHOLD_FACTOR_LIMIT {
-        o.threshold
-    } else {
-        o.threshold * ev / metrics::PI_EG
-    };
-    let dgp_dcglare = dcglare_edgps(c, sky, vdir, vup, o.threshold);
-    if ev <= 0.0 {
-        return StepResult {
-            threshold,
-            ..StepResult::default()
-        };
-    }
     let lum: Vec<f64> = (0..rays.len())
         .map(|i| {
             let mut l: f64 = c.ray_sky[i]
@@ -347,6 +350,24 @@ fn evaluate_step(
             l.max(0.0)
         })
         .collect();
+    if o.ev_from_rays {
+        ev = ev_sun
+            + (0..rays.len())
+                .map(|i| lum[i] * rays.omega[i] * dot(rays.dir[i], vdir).max(0.0))
+                .sum::<f64>();
+    }
+    let threshold = if o.threshold > THRESHOLD_FACTOR_LIMIT {
+        o.threshold
+    } else {
+        o.threshold * ev / metrics::PI_EG
+    };
+    let dgp_dcglare = dcglare_edgps(c, sky, vdir, vup, o.threshold);
+    if ev <= 0.0 {
+        return StepResult {
+            threshold,
+            ..StepResult::default()
+        };
+    }
     let lmax = lum.iter().copied().fold(0.0, f64::max);
     let mut terms = sources(rays, &lum, threshold, vdir, vup, o.model);
     if let Some((d, l)) = sun_source {

@@ -2,7 +2,7 @@
 //!
 //! ```text
 //! rglare annual -w site.epw -vf view.vf [-vta -vp ... -vd ... -vu ... -vh 180 -vv 180]
-//!        [--rays 64] [-b 2000] [-l 0.4] [-C l+] [-P 0|1] [--eye-ad 16384]
+//!        [--rays 64] [-b 2000] [-l 0.4] [-C l+] [-P 0|1] [--ev rays|sensor] [--eye-ad 16384]
 //!        [--occupied 8-18] [--weekdays [--jan1 DAY]] [--schedule flags.txt]
 //!        [-o dgp.txt] [rdc options: -ab 3 -ad 512 -lw 1e-3 -m 1 -s seed -n threads] scene.rad ...
 //! ```
@@ -23,7 +23,7 @@ use crate::metrics::schedule::{ScheduleSpec, parse_range};
 use clap::Parser;
 use std::io::Write;
 
-const USAGE: &str = "usage: rglare annual -w weather.epw|.wea [view options] [--rays N] [-b thres] [-l limit] [-C l+] [-P 0|1] [--eye-ad N] [--occupied A-B] [--weekdays [--jan1 DAY]] [--schedule FILE] [-o out.txt] [rdc options] scene.rad ...";
+const USAGE: &str = "usage: rglare annual -w weather.epw|.wea [view options] [--rays N] [-b thres] [-l limit] [-C l+] [-P 0|1] [--ev rays|sensor] [--eye-ad N] [--occupied A-B] [--weekdays [--jan1 DAY]] [--schedule FILE] [-o out.txt] [rdc options] scene.rad ...";
 
 /// Parsed `rglare annual` command line.
 #[derive(Debug, Clone)]
@@ -114,6 +114,18 @@ impl AnnualArgs {
                         PosModel::GuthIwata
                     };
                 }
+                "--ev" => {
+                    i += 1;
+                    opts.ev_from_rays = match value(&rest, i, a)? {
+                        "rays" => true,
+                        "sensor" => false,
+                        other => {
+                            return Err(Error::Usage(format!(
+                                "--ev: expected rays or sensor, found {other}"
+                            )));
+                        }
+                    };
+                }
                 "--occupied" => {
                     i += 1;
                     schedule.occupied = Some(parse_range(value(&rest, i, a)?)?);
@@ -199,13 +211,18 @@ pub fn report(
     );
     let _ = writeln!(
         s,
-        "# method: {} view rays ({}x{} grid), sky MF {}, -ab {} -ad {}; eye sensor -ad {}; sun disc {} deg exact (DDS)",
+        "# method: {} view rays ({}x{} grid), sky MF {}, -ab {} -ad {}; Ev from {}; eye sensor -ad {}; sun disc {} deg exact (DDS)",
         rays.len(),
         rays.n,
         rays.n,
         args.rdc.mf.unwrap_or(1),
         samp.map_or(0, |s| s.ab),
         samp.map_or(0, |s| s.ad),
+        if o.ev_from_rays {
+            "the view rays"
+        } else {
+            "the eye sensor"
+        },
         args.eye_ad,
         o.sun_angle
     );
