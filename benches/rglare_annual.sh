@@ -5,7 +5,8 @@
 # the picture route timed on a few hours and extrapolated to the year's occupied daylight
 # hours. View: the furnished office, 180-degree angular fisheye facing the window.
 # Usage: benches/rglare_annual.sh   (needs pyradiance or RADIANCE_BIN; builds rglare --release)
-#   PIC_RES=800 (picture size), PIC_HOURS=3 (hours rendered), RAYS=64 (grid), AB=3, AD=512
+#   PIC_RES=800 (picture size), PIC_HOURS=3 (hours rendered), RAYS=64 (grid), AB=2, AD=512
+#   (both routes at -ab 2: a view ray counts its bounces from the surface it hits, as rpict)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 if [[ -n "${RADIANCE_BIN:-}" ]]; then RBIN=$RADIANCE_BIN; RLIB=${RAYPATH:-$(dirname "$RBIN")/lib}
@@ -15,7 +16,7 @@ export PATH="$RBIN:$PATH" RAYPATH=".:$RLIB"
 T=${BENCH_DIR:-$(mktemp -d)}
 F=radiance-fixtures
 EPW=$(ls examples/weather/*.epw | head -1)
-PIC_RES=${PIC_RES:-800}; PIC_HOURS=${PIC_HOURS:-3}; RAYS=${RAYS:-64}; AB=${AB:-3}; AD=${AD:-512}
+PIC_RES=${PIC_RES:-800}; PIC_HOURS=${PIC_HOURS:-3}; RAYS=${RAYS:-64}; AB=${AB:-2}; AD=${AD:-512}
 VIEW="-vta -vp 3 1.5 1.2 -vd 0 -1 0 -vu 0 0 1 -vh 180 -vv 180"
 cargo build --release --bin rglare -q
 now() { date +%s.%N; }
