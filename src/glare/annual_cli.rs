@@ -282,6 +282,16 @@ pub fn report(
 
 /// Run `rglare annual` with the arguments after `annual`.
 pub fn run(raw: &[String]) -> Result<()> {
+    if raw.iter().any(|a| a == "--help" || a == "-help") {
+        println!(
+            "{USAGE}\n\nImageless DGP per weather step (dcglare's counterpart) from daylight coefficients \
+             of a grid of view rays (--rays N per side) and the exact sun disc. The rdc options \
+             (-ab -ad -lw -m MF -s seed -n threads) set the sampling. Output: '#' lines (method, \
+             threshold, view, occupancy, glare autonomy, shares above 0.35/0.40/0.45, EN 17037 \
+             class), then per step: month day hour DGP Ev Ev_sun nsources sun_in_view DGP_dcglare."
+        );
+        return Ok(());
+    }
     let args = AnnualArgs::parse(raw)?;
     let weather = Weather::read_path(&args.weather)?;
     let sched = args.schedule.build(weather.steps.len(), &args.weather)?;
