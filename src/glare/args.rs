@@ -18,7 +18,9 @@
 //! | `-w a1 a2 a3 a4 a5 c1 c2 c3` | same | DGP coefficients |
 //! | `-vf file`, `-vt? -vh -vv -vd -vu -vp …` | same | view, replacing the header's |
 //!
-//! Several pictures give one result per picture, in input order, evaluated in parallel.
+//! Several pictures give one result per picture, in input order, evaluated in parallel;
+//! a file or standard input may hold a stream of pictures one after another.
+//! `rglare annual ...` is imageless annual glare ([`super::annual_cli`]).
 //! The detection method and threshold go to stderr (one line per picture), so standard
 //! output stays what evalglare prints.
 
@@ -46,7 +48,7 @@ pub struct Args {
     files: Vec<String>,
 }
 
-const USAGE: &str = "usage: rglare [-d|-V] [-c check.hdr] [-b thres] [-r radius] [-y|-x|-Y limit] [-s] [-t|-T x y r] [-C l+|l-|0] [-q 0|1|2] [-P 0|1] [-w a1 a2 a3 a4 a5 c1 c2 c3] [view options] [picture ...]";
+const USAGE: &str = "usage: rglare [-d|-V] [-c check.hdr] [-b thres] [-r radius] [-y|-x|-Y limit] [-s] [-t|-T x y r] [-C l+|l-|0] [-q 0|1|2] [-P 0|1] [-w a1 a2 a3 a4 a5 c1 c2 c3] [view options] [picture ...]; or rglare annual ... (rglare annual --help)";
 
 fn num(args: &[String], i: usize, opt: &str) -> Result<f64> {
     let v = args
@@ -184,21 +186,43 @@ impl Args {
     }
 }
 
-fn open(name: &str) -> Result<Picture> {
+/// Every picture of input `name` (`-` = standard input): one file may hold a stream of
+/// pictures written one after another (e.g. `rpict ... ; rpict ...` into one pipe), each
+/// with its own header; they are named `name#1`, `name#2`... when there are several.
+fn open(name: &str) -> Result<Vec<(String, Picture)>> {
+    use std::io::BufRead;
+    fn all<R: BufRead>(mut r: R, name: &str) -> Result<Vec<(String, Picture)>> {
+        let mut pics = Vec::new();
+        loop {
+            let shown = if pics.is_empty() {
+                name.to_string()
+            } else {
+                format!("{name}#{}", pics.len() + 1)
+            };
+            pics.push((shown, Picture::read(&mut r, name)?));
+            if r.fill_buf().map_err(|e| Error::io(name, e))?.is_empty() {
+                break;
+            }
+        }
+        if pics.len() > 1 {
+            pics[0].0 = format!("{name}#1");
+        }
+        Ok(pics)
+    }
     if name == "-" {
         let stdin = std::io::stdin();
-        Picture::read(std::io::BufReader::new(stdin.lock()), "<stdin>")
+        all(std::io::BufReader::new(stdin.lock()), "<stdin>")
     } else {
-        Picture::open(name)
+        let f = std::fs::File::open(name).map_err(|e| Error::io(name, e))?;
+        all(std::io::BufReader::new(f), name)
     }
 }
 
 /// Evaluate one picture and return (stdout text, stderr lines).
-fn one(args: &Args, name: &str) -> Result<(String, Vec<String>)> {
-    let pic = open(name)?;
-    let view = picture_view(&pic, name, args.view.as_ref())?;
+fn one(args: &Args, name: &str, pic: &Picture) -> Result<(String, Vec<String>)> {
+    let view = picture_view(pic, name, args.view.as_ref())?;
     let camera = view.setup()?;
-    let p = super::Pixels::new(&pic, camera);
+    let p = super::Pixels::new(pic, camera);
     if let Some((x, y, _)) = args.opts.detect.task {
         if x >= p.xres || y >= p.yres {
             return Err(Error::Usage(format!(
@@ -226,7 +250,7 @@ fn one(args: &Args, name: &str) -> Result<(String, Vec<String>)> {
             .then_some(args.opts.detect.peak_limit),
     ));
     if let Some(c) = &args.check {
-        let out = super::check::check_picture(&pic, &p, &e);
+        let out = super::check::check_picture(pic, &p, &e);
         crate::cli::write_atomically(std::path::Path::new(c), |w| out.write(w, true))?;
     }
     let text = match args.output {
@@ -239,21 +263,38 @@ fn one(args: &Args, name: &str) -> Result<(String, Vec<String>)> {
 /// Run `rglare` with the arguments after the program name.
 pub fn run(raw: &[String]) -> Result<()> {
     use rayon::prelude::*;
+    if raw.first().map(String::as_str) == Some("annual") {
+        return super::annual_cli::run(&raw[1..]);
+    }
     let mut args = Args::parse(raw)?;
     if args.files.is_empty() {
         args.files.push("-".into());
     }
-    let results: Vec<Result<(String, Vec<String>)>> =
-        args.files.par_iter().map(|f| one(&args, f)).collect();
+    // files in parallel; a stream's pictures in parallel once it is read
+    type Out = (String, Vec<String>);
+    let results: Vec<Result<Vec<Out>>> = args
+        .files
+        .par_iter()
+        .map(|f| {
+            let pics = open(f)?;
+            if args.check.is_some() && pics.len() > 1 {
+                return Err(Error::Usage("-c needs exactly one input picture".into()));
+            }
+            pics.par_iter()
+                .map(|(name, pic)| one(&args, name, pic))
+                .collect()
+        })
+        .collect();
     let stdout = std::io::stdout();
     let mut out = stdout.lock();
     for r in results {
-        let (text, err) = r?;
-        for e in err {
-            eprintln!("{e}");
+        for (text, err) in r? {
+            for e in err {
+                eprintln!("{e}");
+            }
+            out.write_all(text.as_bytes())
+                .map_err(|e| Error::io("<stdout>", e))?;
         }
-        out.write_all(text.as_bytes())
-            .map_err(|e| Error::io("<stdout>", e))?;
     }
     out.flush().map_err(|e| Error::io("<stdout>", e))
 }

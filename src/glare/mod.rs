@@ -23,9 +23,14 @@
 //! `furnished_clear_window`, every other printed metric equal). `-vth` rim pixels: see
 //! [`pixels`].
 //!
+//! Annual glare without pictures (`rglare annual`, dcglare's counterpart): [`annual`] on
+//! the view rays of [`viewrays`], command line in [`annual_cli`].
+//!
 //! Agreement with evalglare 3.06 is tested on the pictures of `radiance-fixtures/glare/`
 //! and `radiance-fixtures/pictures/` (`tests/rglare.rs`).
 
+pub mod annual;
+pub mod annual_cli;
 pub mod args;
 pub mod check;
 pub mod detect;
@@ -33,6 +38,7 @@ pub mod metrics;
 pub mod pixels;
 pub mod posindex;
 pub mod report;
+pub mod viewrays;
 
 pub use detect::{DetectOptions, Detection, Method, Source};
 pub use metrics::{DgpCoefficients, Metrics};
