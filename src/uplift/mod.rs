@@ -30,8 +30,12 @@ pub mod basis;
 pub mod colorimetry;
 pub mod eval;
 pub mod jakob;
+pub mod kriging;
+pub mod mask;
 pub mod melanopic;
 pub mod output;
+pub mod photo;
+pub mod proxy;
 pub mod solve;
 
 pub use basis::Basis;
