@@ -411,6 +411,13 @@ fn save_picture(p: &Picture, path: &Path) -> Result<(), Error> {
 }
 
 fn proxy_cmd(a: &ProxyArgs) -> Result<(), Error> {
+    if a.mask.is_none() && a.map.is_none() && a.illuminance.is_none() {
+        return Err(Error::Usage(
+            "nothing to write: give --mask for per-material means or --map for the \
+             reflectance map"
+                .into(),
+        ));
+    }
     let picture = if is_exr(&a.picture) {
         read_exr(&a.picture)?
     } else {
@@ -467,13 +474,6 @@ fn proxy_cmd(a: &ProxyArgs) -> Result<(), Error> {
         save_picture(&r.illuminance, p)?;
     }
     if mask.is_none() {
-        if a.map.is_none() {
-            return Err(Error::Usage(
-                "nothing to write: give --mask for per-material means or --map for the \
-                 reflectance map"
-                    .into(),
-            ));
-        }
         return Ok(());
     }
     let rows: Vec<MaterialRow> = r

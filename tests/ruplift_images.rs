@@ -537,9 +537,31 @@ fn image_methods_recover_known_materials() {
     let rows = run_tool(d, &proxy("points_rgb.csv", &[]), "proxy_rgb_nozones.csv");
     scores.push(score("proxy RGB, one zone", &rows, true));
 
-    // The reflectance map is a picture of the right size whose wall pixels are near truth.
+    // The reflectance map: right size, and its back-wall pixels average to the table's value
+    // (the table's mean is trimmed, so within 1 %).
     let map = Picture::open(d.join("rho.hdr")).unwrap();
     assert_eq!((map.width, map.height), (inp.hdr.width, inp.hdr.height));
+    let back: Vec<f64> = inp
+        .labels
+        .iter()
+        .enumerate()
+        .filter(|(_, l)| **l == Some(1))
+        .map(|(i, _)| map.data[3 * i + 1] as f64)
+        .collect();
+    let mean = back.iter().sum::<f64>() / back.len() as f64;
+    assert!((mean / 0.645 - 1.0).abs() < 0.02, "back wall G {mean}");
+    // OpenEXR in and out gives the same table as Radiance HDR (the same f32 values).
+    rdaylight::formats::picture::exr::write_exr(&inp.hdr, d.join("room.exr")).unwrap();
+    let mut args = proxy(
+        "points_rgb.csv",
+        &["--zones", "zones.png", "--map", "rho.exr"],
+    );
+    args[1] = "room.exr";
+    let exr_rows = run_tool(d, &args, "proxy_exr.csv");
+    let hdr_rows = table(&d.join("proxy_rgb.csv"));
+    assert_eq!(exr_rows, hdr_rows);
+    let map_exr = rdaylight::formats::picture::exr::read_exr(d.join("rho.exr")).unwrap();
+    assert_eq!((map_exr.width, map_exr.height), (map.width, map.height));
 
     let text = report(&inp, &scores);
     eprintln!("{text}");
@@ -580,4 +602,119 @@ fn image_methods_recover_known_materials() {
              RUPLIFT_UPDATE_DOCS=1 cargo test --test ruplift_images"
         );
     }
+}
+
+/// Bad inputs: one-line errors naming the file and line, exit status 1, nothing written.
+#[test]
+fn cli_errors() {
+    let dir = common::tmpdir();
+    let d = dir.path();
+    let mut img = image::RgbImage::new(8, 6);
+    let mut mask = image::RgbImage::new(8, 6);
+    for (x, _, p) in img.enumerate_pixels_mut() {
+        p.0 = if x < 4 {
+            [200, 200, 200]
+        } else {
+            [150, 80, 60]
+        };
+    }
+    for (x, _, p) in mask.enumerate_pixels_mut() {
+        p.0 = if x < 4 { [255, 255, 255] } else { [255, 0, 0] };
+    }
+    img.save(d.join("photo.png")).unwrap();
+    mask.save(d.join("mask.png")).unwrap();
+    image::RgbImage::new(4, 4)
+        .save(d.join("small.png"))
+        .unwrap();
+    std::fs::write(d.join("good.csv"), "ffffff, card, 0.9\nff0000, brick\n").unwrap();
+    std::fs::write(d.join("bad.csv"), "ffffff, card, 0.9\n#ff0000, brick\n").unwrap();
+    std::fs::write(d.join("nocard.csv"), "ffffff, card\nff0000, brick\n").unwrap();
+    let fails = |args: &[&str]| -> String {
+        let out = common::run(common::ours("ruplift").current_dir(d).args(args), b"");
+        assert_eq!(out.status.code(), Some(1), "{args:?}");
+        let err = String::from_utf8_lossy(&out.stderr).to_string();
+        assert_eq!(err.lines().count(), 1, "{err}");
+        err
+    };
+    let photo = ["photo", "photo.png", "--mask", "mask.png", "--legend"];
+    // '#' starts a comment, so '#ff0000, brick' is skipped and the legend has one entry;
+    // a bad colour is an error with file and line.
+    std::fs::write(d.join("bad.csv"), "ffffff, card, 0.9\nff000, brick\n").unwrap();
+    let e = fails(&[&photo[..], &["bad.csv"]].concat());
+    assert!(
+        e.starts_with(
+            "ruplift: bad.csv:2: expected a colour of six hex digits (rrggbb), found 'ff000'"
+        ),
+        "{e}"
+    );
+    let e = fails(&[&photo[..], &["nocard.csv"]].concat());
+    assert!(e.contains("no white reference"), "{e}");
+    let e = fails(&["photo", "photo.png", "--mask", "small.png"]);
+    assert!(
+        e.contains("the mask is 4 x 4 pixels but the photo is 8 x 6"),
+        "{e}"
+    );
+    let e = fails(
+        &[
+            &photo[..],
+            &["good.csv", "--grey-world", "0.5", "--camera-white"],
+        ]
+        .concat(),
+    );
+    assert!(e.contains("choose one white"), "{e}");
+    // A good run, then the photo's card is recovered exactly and brick is darker.
+    let out = common::run_ok(
+        common::ours("ruplift")
+            .current_dir(d)
+            .args([&photo[..], &["good.csv"]].concat()),
+        b"",
+    );
+    let text = String::from_utf8(out).unwrap();
+    assert!(
+        text.contains("void plastic card\n0\n0\n5 0.9 0.9 0.9 0 0"),
+        "{text}"
+    );
+    assert!(text.contains("void plastic brick"), "{text}");
+    // With --spectrum the materials are spectrum + plastic pairs.
+    let out = common::run_ok(
+        common::ours("ruplift")
+            .current_dir(d)
+            .args([&photo[..], &["good.csv", "--spectrum"]].concat()),
+        b"",
+    );
+    assert!(String::from_utf8_lossy(&out).contains("void spectrum brick_spec"));
+
+    // proxy: a picture, points outside it, and nothing to write.
+    let mut p = Picture::new(
+        8,
+        6,
+        rdaylight::radiometry::Channels::rgb(),
+        rdaylight::formats::picture::PixelFormat::Rgbe,
+    );
+    p.data.iter_mut().for_each(|v| *v = 1.0);
+    p.save(d.join("wall.hdr"), true).unwrap();
+    std::fs::write(d.join("pts.csv"), "x,y,rho\n1,1,0.5\n9,2,0.5\n").unwrap();
+    let e = fails(&[
+        "proxy", "wall.hdr", "--points", "pts.csv", "--mask", "mask.png",
+    ]);
+    assert!(
+        e.starts_with("ruplift: pts.csv:3: point (9, 2) is outside the 8 x 6 picture"),
+        "{e}"
+    );
+    std::fs::write(d.join("pts.csv"), "1,1,0.5\n2,2,0.5\n").unwrap();
+    let e = fails(&["proxy", "wall.hdr", "--points", "pts.csv"]);
+    assert!(e.contains("nothing to write"), "{e}");
+    assert!(!d.join("out.rad").exists());
+    // Uniform picture, two points: constant illuminance, reflectance 0.5 everywhere.
+    let out = common::run_ok(
+        common::ours("ruplift").current_dir(d).args([
+            "proxy", "wall.hdr", "--points", "pts.csv", "--mask", "mask.png",
+        ]),
+        b"",
+    );
+    let text = String::from_utf8(out).unwrap();
+    assert!(
+        text.contains("void plastic m_ffffff\n0\n0\n5 0.5 0.5 0.5 0 0"),
+        "{text}"
+    );
 }
