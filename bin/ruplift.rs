@@ -27,8 +27,8 @@ Examples:
   Many colours (lines 'name R G B') to scene text or CSV:
     ruplift batch colours.txt > materials.rad
     ruplift batch --format csv colours.txt > spectra.csv
-  The validation tables (docs/uplift-validation.md):
-    ruplift validate
+  The validation tables and plot (docs/uplift-validation.md):
+    ruplift validate --plot docs/uplift-error-per-wavelength.png
   Materials from a phone photo with a white card (Ferwerda), legend lines 'rrggbb, name':
     ruplift photo room.jpg --mask mask.png --legend legend.csv --table out.csv > mat.rad
   Grey-world white instead of a card, spectra through the uplifting:
@@ -100,7 +100,12 @@ enum Command {
     },
     /// Validate both methods on measured spectra (Munsell, ColorChecker) and print the
     /// Markdown tables of docs/uplift-validation.md.
-    Validate,
+    Validate {
+        /// Also draw the per-wavelength error plot (PNG), e.g.
+        /// docs/uplift-error-per-wavelength.png.
+        #[arg(long, value_name = "FILE")]
+        plot: Option<PathBuf>,
+    },
     /// Reflectance per material from an ordinary photo (JPEG/PNG, sRGB), Ferwerda's method:
     /// sRGB decoding, chromatic adaptation of the camera's white to equal-energy white, mean
     /// over each mask region. Writes a .rad file of plastics (Radiance RGB).
@@ -540,7 +545,13 @@ fn real_main() -> Result<(), Error> {
             }
             emit(&mut out, &items, &common)?;
         }
-        Command::Validate => {
+        Command::Validate { plot } => {
+            if let Some(p) = plot {
+                let shown = p.display().to_string();
+                eval::error_plot()
+                    .save(&p)
+                    .map_err(|e| Error::Usage(format!("{shown}: cannot write the plot: {e}")))?;
+            }
             let sweep = eval::basis_k_sweep(&[3, 4, 5, 6, 7, 8, 10, 12]);
             let rows = eval::validate()?;
             write!(out, "{}", eval::report(&rows, &sweep)).at_path("<stdout>")?;

@@ -336,3 +336,28 @@ fn validation_on_measured_spectra() {
         "docs/uplift-validation.md is out of date: regenerate with `ruplift validate`"
     );
 }
+
+/// The committed per-wavelength error plot is what `ruplift validate --plot` draws now
+/// (compared pixel by pixel, so PNG encoder versions do not matter).
+#[test]
+fn error_plot_is_up_to_date() {
+    let drawn = eval::error_plot();
+    let path = common::repo().join("docs/uplift-error-per-wavelength.png");
+    let committed = image::open(&path)
+        .expect("docs/uplift-error-per-wavelength.png")
+        .to_rgb8();
+    assert_eq!(
+        (drawn.width(), drawn.height()),
+        (committed.width(), committed.height())
+    );
+    let differ = drawn
+        .pixels()
+        .zip(committed.pixels())
+        .filter(|(a, b)| a != b)
+        .count();
+    assert_eq!(
+        differ, 0,
+        "docs/uplift-error-per-wavelength.png is out of date: regenerate with \
+         `ruplift validate --plot docs/uplift-error-per-wavelength.png`"
+    );
+}

@@ -35,6 +35,7 @@ pub mod mask;
 pub mod melanopic;
 pub mod output;
 pub mod photo;
+pub mod plot;
 pub mod proxy;
 pub mod solve;
 
