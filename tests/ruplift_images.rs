@@ -281,8 +281,9 @@ fn make_inputs() -> Inputs {
         .zip(&labels)
         .filter(|(_, l)| l.is_some())
         .map(|(v, _)| {
-            let xyz = mul(&rad.rgb2xyz, [v[0] as f64, v[1] as f64, v[2] as f64]);
-            mul(&srgb.xyz2rgb, xyz).into_iter().fold(0.0, f64::max)
+            srgb.xyz_to_rgb(rad.rgb_to_xyz([v[0] as f64, v[1] as f64, v[2] as f64]))
+                .into_iter()
+                .fold(0.0, f64::max)
         })
         .collect();
     let exposure = 0.9 / percentile(&brightest, 99.0);
@@ -331,10 +332,6 @@ fn make_inputs() -> Inputs {
         labels,
         exposure,
     }
-}
-
-fn mul(m: &[[f64; 3]; 3], v: [f64; 3]) -> [f64; 3] {
-    std::array::from_fn(|r| (0..3).map(|c| m[r][c] * v[c]).sum())
 }
 
 /// Parse `--table` CSV: name -> (pixels, rgb).

@@ -25,6 +25,16 @@
 //!
 //! Outputs ([`output`]): Radiance 6 `spectrum` primitives with a `plastic` using them,
 //! `specfile` data files and CSV. Effect on non-visual light: [`melanopic`].
+//!
+//! Reflectance from pictures (seed chapter 5; recovery errors on a synthetic room in
+//! `docs/uplift-images.md`):
+//!
+//! - [`photo`]: Ferwerda's method for ordinary photos (sRGB decoding, chromatic adaptation of
+//!   the camera white to equal-energy white, means over [`mask`] regions);
+//! - [`proxy`]: the illuminance proxy of Mardaljevic et al. for calibrated HDR pictures and
+//!   points of known reflectance, with ordinary [`kriging`] of the illuminance.
+//!
+//! [`plot`] draws the per-wavelength error plot of the validation.
 
 pub mod basis;
 pub mod colorimetry;

@@ -36,7 +36,7 @@
 use crate::error::{Error, Result};
 use crate::formats::picture::Picture;
 
-use super::colorimetry::{Observer, RgbSpace, linear_to_srgb};
+use super::colorimetry::{Observer, RgbSpace, inv3, linear_to_srgb, mul3};
 use super::mask::LabelMap;
 
 /// Linear value at or above which a channel counts as clipped (254.5/255 decoded).
@@ -83,23 +83,6 @@ impl Cat {
             std::array::from_fn(|c| (0..3).map(|k| ai[r][k] * d[k] * a[k][c]).sum())
         })
     }
-}
-
-pub(crate) fn inv3(m: [[f64; 3]; 3]) -> [[f64; 3]; 3] {
-    let d = m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
-        - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
-        + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
-    let c =
-        |r0: usize, c0: usize, r1: usize, c1: usize| m[r0][c0] * m[r1][c1] - m[r0][c1] * m[r1][c0];
-    [
-        [c(1, 1, 2, 2) / d, -c(0, 1, 2, 2) / d, c(0, 1, 1, 2) / d],
-        [-c(1, 0, 2, 2) / d, c(0, 0, 2, 2) / d, -c(0, 0, 1, 2) / d],
-        [c(1, 0, 2, 1) / d, -c(0, 0, 2, 1) / d, c(0, 0, 1, 1) / d],
-    ]
-}
-
-pub(crate) fn mul3(m: &[[f64; 3]; 3], v: [f64; 3]) -> [f64; 3] {
-    std::array::from_fn(|r| m[r][0] * v[0] + m[r][1] * v[1] + m[r][2] * v[2])
 }
 
 /// Where the camera's white comes from.
@@ -173,7 +156,7 @@ pub fn estimate(
         .iter()
         .map(|r| mean_rgb(photo, r.iter().copied()))
         .collect();
-    let xyz_rad = |rgb: [f64; 3]| mul3(&rad.rgb2xyz, rgb);
+    let xyz_rad = |rgb: [f64; 3]| rad.rgb_to_xyz(rgb);
     // (camera XYZ of the white, its target XYZ under E, label of the white)
     let global: Option<([f64; 3], [f64; 3], String)> = match white {
         White::Legend => None,
@@ -191,7 +174,7 @@ pub fn estimate(
                 ));
             }
             Some((
-                mul3(&srgb.rgb2xyz, m),
+                srgb.rgb_to_xyz(m),
                 rad.white.map(|w| w * g),
                 "grey-world".into(),
             ))
@@ -215,7 +198,7 @@ pub fn estimate(
                     "white rectangle: every pixel is clipped; expose the photo for the card".into(),
                 ));
             }
-            Some((mul3(&srgb.rgb2xyz, m), xyz_rad(*known), "rect".into()))
+            Some((srgb.rgb_to_xyz(m), xyz_rad(*known), "rect".into()))
         }
     };
     let entries = &mask.legend.entries;
@@ -250,18 +233,14 @@ pub fn estimate(
                     )));
                 }
                 let known = entries[r].known.unwrap_or([1.0; 3]);
-                (
-                    mul3(&srgb.rgb2xyz, rm),
-                    xyz_rad(known),
-                    entries[r].name.clone(),
-                )
+                (srgb.rgb_to_xyz(rm), xyz_rad(known), entries[r].name.clone())
             }
         };
         let adapt = cat.adaptation(w_xyz, target);
-        let xyz = mul3(&adapt, mul3(&srgb.rgb2xyz, mean));
+        let xyz = mul3(&adapt, srgb.rgb_to_xyz(mean));
         out.push(Estimate {
             name: e.name.clone(),
-            rgb: mul3(&rad.xyz2rgb, xyz),
+            rgb: rad.xyz_to_rgb(xyz),
             pixels: n,
             clipped,
             white: label,
@@ -292,8 +271,8 @@ pub fn camera_srgb(radiance: &Picture, exposure: f64) -> Result<image::RgbImage>
     );
     let mut img = image::RgbImage::new(w, h);
     for (px, v) in img.pixels_mut().zip(values.chunks_exact(3)) {
-        let xyz = mul3(&rad.rgb2xyz, [v[0] as f64, v[1] as f64, v[2] as f64]);
-        let lin = mul3(&srgb.xyz2rgb, xyz);
+        // Both spaces are linear: rgb_to_xyz / xyz_to_rgb apply no transfer curve.
+        let lin = srgb.xyz_to_rgb(rad.rgb_to_xyz([v[0] as f64, v[1] as f64, v[2] as f64]));
         for (o, l) in px.0.iter_mut().zip(lin) {
             let e = linear_to_srgb((exposure * l).clamp(0.0, 1.0));
             *o = (e * 255.0).round() as u8;
