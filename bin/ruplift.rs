@@ -13,6 +13,7 @@ use rdaylight::uplift::output::{MaterialRow, write_material_table, write_materia
 use rdaylight::uplift::output::{parse_batch, write_csv, write_rad, write_specfile};
 use rdaylight::uplift::photo::{self, Cat, White};
 use rdaylight::uplift::proxy;
+use rdaylight::uplift::table::JakobTable;
 use rdaylight::uplift::{Method, RgbSpace, Spectrum, Uplifted, Uplifter, eval};
 use std::io::{Read, Write};
 use std::path::{Path, PathBuf};
@@ -24,6 +25,8 @@ Examples:
     oconv wall.rad room.rad > room.oct; rtrace -cs 20 -co ...
   An sRGB swatch (gamma-encoded, D65) as a specfile data file:
     ruplift rgb 0.8 0.5 0.3 --space srgb --format specfile > swatch.dat
+  Jakob & Hanika with a precomputed coefficient table (built on first use):
+    ruplift batch --method jakob --table jakob32.tab colours.txt > materials.rad
   Many colours (lines 'name R G B') to scene text or CSV:
     ruplift batch colours.txt > materials.rad
     ruplift batch --format csv colours.txt > spectra.csv
@@ -70,6 +73,13 @@ struct Common {
     /// Roughness of the plastic (rad output).
     #[arg(long, default_value_t = 0.0)]
     rough: f64,
+    /// Jakob & Hanika coefficient table (with --method jakob): read FILE if it exists,
+    /// else build it (--table-res) and save it there. Lookups start the fit near the answer.
+    #[arg(long, value_name = "FILE")]
+    table: Option<PathBuf>,
+    /// Resolution of a table being built (entries per axis; 3 res^3 fits).
+    #[arg(long, default_value_t = 32, value_name = "N")]
+    table_res: usize,
 }
 
 #[derive(Subcommand, Debug)]
@@ -248,7 +258,7 @@ enum Format {
     Csv,
 }
 
-fn uplifter(c: &Common) -> Uplifter {
+fn uplifter(c: &Common) -> Result<Uplifter, Error> {
     let space = match c.space {
         Space::Radiance => RgbSpace::Radiance,
         Space::Srgb => RgbSpace::Srgb,
@@ -258,7 +268,23 @@ fn uplifter(c: &Common) -> Uplifter {
         MethodArg::Basis => Method::Basis,
         MethodArg::Jakob => Method::Jakob,
     };
-    Uplifter::new(space, method)
+    let u = Uplifter::new(space, method);
+    let Some(path) = &c.table else {
+        return Ok(u);
+    };
+    let shown = path.display().to_string();
+    let table = if path.exists() {
+        let bytes = std::fs::read(path).at_path(&shown)?;
+        JakobTable::read(&bytes, &shown)?
+    } else {
+        if method != Method::Jakob {
+            return Err(Error::Usage("--table is for --method jakob".into()));
+        }
+        let t = JakobTable::build(space, c.table_res)?;
+        rdaylight::cli::write_atomically(path, |w| t.write(w).at_path(&shown))?;
+        t
+    };
+    u.with_table(table)
 }
 
 fn describe(name: &str, rgb: [f64; 3], c: &Common, up: &Uplifted) -> String {
@@ -277,7 +303,7 @@ fn emit(out: &mut dyn Write, items: &[(String, [f64; 3])], c: &Common) -> Result
             "--format specfile writes one spectrum; use rad or csv for batches".into(),
         ));
     }
-    let u = uplifter(c);
+    let u = uplifter(c)?;
     let mut csv: Vec<(String, Spectrum)> = Vec::new();
     for (name, rgb) in items {
         let up = u.uplift_rgb(*rgb);
