@@ -41,7 +41,9 @@ use nom::{
 
 use crate::error::{Error, Location, Result};
 use crate::formats::picture::{Picture, PixelFormat};
-use crate::radiometry::{Channels, RGB_PHOTOPIC};
+use crate::radiometry::{Channels, RGB_PHOTOPIC, WHITE_EFFICACY};
+
+use rayon::prelude::*;
 
 use super::eval::percentile;
 use super::kriging::{Family, Kriging};
@@ -179,16 +181,27 @@ pub struct ProxyResult {
 
 /// Values per pixel: luminance (1) or RGB radiance (3), exposure divided out.
 fn pixel_values(p: &Picture, three: bool) -> Vec<f64> {
+    let rad: Vec<f64> = p.radiance_values().iter().map(|&v| v as f64).collect();
     if three {
-        p.radiance_values().iter().map(|&v| v as f64).collect()
-    } else {
-        let mut v = Vec::with_capacity(p.width * p.height);
-        for y in 0..p.height {
-            for x in 0..p.width {
-                v.push(p.luminance(x, y));
+        return rad;
+    }
+    match p.format {
+        // Radiance's luminance(): 179 lm/W times the photopic weights of its primaries.
+        PixelFormat::Rgbe => rad
+            .chunks_exact(3)
+            .map(|c| WHITE_EFFICACY * (0..3).map(|i| RGB_PHOTOPIC[i] * c[i]).sum::<f64>())
+            .collect(),
+        // Y is stored in cd/m2.
+        PixelFormat::Xyze => rad.chunks_exact(3).map(|c| c[1]).collect(),
+        PixelFormat::Spectra => {
+            let mut v = Vec::with_capacity(p.width * p.height);
+            for y in 0..p.height {
+                for x in 0..p.width {
+                    v.push(p.luminance(x, y));
+                }
             }
+            v
         }
-        v
     }
 }
 
@@ -310,34 +323,45 @@ pub fn run(
         }
     }
 
-    // 3. Illuminance and reflectance maps.
+    // 3. Illuminance and reflectance maps (rows in parallel; each pixel is independent).
     let mut refl = Picture::new(w, h, Channels::rgb(), PixelFormat::Rgbe);
     let mut illum = Picture::new(w, h, Channels::rgb(), PixelFormat::Rgbe);
-    let mut rho_vals = vec![0.0f64; w * h * nc];
-    for y in 0..h {
-        for x in 0..w {
-            let k = match zone_of(x, y).and_then(|z| models[z].as_ref()) {
-                Some(k) => k,
-                None => &global,
-            };
-            let at = y * w + x;
-            for c in 0..nc {
-                let e = k[c].predict([x as f64, y as f64]);
-                let rho = if e > 0.0 {
-                    std::f64::consts::PI * vals[at * nc + c] / e
-                } else {
-                    0.0
+    let rows: Vec<(Vec<f64>, Vec<f64>)> = (0..h)
+        .into_par_iter()
+        .map(|y| {
+            let mut rho_row = vec![0.0; w * nc];
+            let mut e_row = vec![0.0; w * nc];
+            for x in 0..w {
+                let k = match zone_of(x, y).and_then(|z| models[z].as_ref()) {
+                    Some(k) => k,
+                    None => &global,
                 };
-                rho_vals[at * nc + c] = rho;
-                for o in 0..3 {
-                    if nc == 3 && o != c {
-                        continue;
-                    }
-                    refl.data[at * 3 + o] = rho as f32;
-                    illum.data[at * 3 + o] = e.max(0.0) as f32;
+                for c in 0..nc {
+                    let e = k[c].predict([x as f64, y as f64]);
+                    let l = vals[(y * w + x) * nc + c];
+                    rho_row[x * nc + c] = if e > 0.0 {
+                        std::f64::consts::PI * l / e
+                    } else {
+                        0.0
+                    };
+                    e_row[x * nc + c] = e.max(0.0);
                 }
             }
+            (rho_row, e_row)
+        })
+        .collect();
+    let mut rho_vals = Vec::with_capacity(w * h * nc);
+    for (y, (rho_row, e_row)) in rows.iter().enumerate() {
+        for x in 0..w {
+            let at = y * w + x;
+            for o in 0..3 {
+                // One channel is written as grey.
+                let c = if nc == 3 { o } else { 0 };
+                refl.data[at * 3 + o] = rho_row[x * nc + c] as f32;
+                illum.data[at * 3 + o] = e_row[x * nc + c] as f32;
+            }
         }
+        rho_vals.extend_from_slice(rho_row);
     }
     let src = points_file.to_string();
     refl.header.push(format!(

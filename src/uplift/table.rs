@@ -52,6 +52,8 @@ pub struct JakobTable {
     pub res: usize,
     /// `3 res^3` coefficient triples.
     pub coeffs: Vec<[f32; 3]>,
+    /// The `z` grid ([`JakobTable::z_grid`]), kept for lookups.
+    z: Vec<f64>,
 }
 
 fn smoothstep(t: f64) -> f64 {
@@ -101,7 +103,12 @@ impl JakobTable {
                 m.c.map(|v| v as f32)
             })
             .collect();
-        Ok(JakobTable { space, res, coeffs })
+        Ok(JakobTable {
+            space,
+            res,
+            coeffs,
+            z: Self::z_grid(res),
+        })
     }
 
     /// The interpolated model for `rgb` (values as given in the table's space), or `None`
@@ -120,7 +127,7 @@ impl JakobTable {
         } else {
             (0.0, 0.0)
         };
-        let zg = Self::z_grid(res);
+        let zg = &self.z;
         // Cell along z (binary search on the monotone grid), and its fraction.
         let k = zg.partition_point(|v| *v <= zz).clamp(1, res - 1) - 1;
         let fz = ((zz - zg[k]) / (zg[k + 1] - zg[k])).clamp(0.0, 1.0);
@@ -264,7 +271,12 @@ impl JakobTable {
                 [f(0), f(4), f(8)]
             })
             .collect();
-        Ok(JakobTable { space, res, coeffs })
+        Ok(JakobTable {
+            space,
+            res,
+            coeffs,
+            z: Self::z_grid(res),
+        })
     }
 }
 
