@@ -715,3 +715,76 @@ fn cli_errors() {
         "{text}"
     );
 }
+
+/// The same room rendered by real Radiance (oconv + rpict) instead of rdc: the methods do
+/// not depend on our renderer. Masks come from the rdc ID picture (same view, same pixel
+/// grid), so edge pixels may disagree by one pixel; the eroded masks absorb that.
+#[test]
+fn image_methods_on_rpict_pictures() {
+    if !common::have_radiance("image_methods_on_rpict_pictures") {
+        return;
+    }
+    let inp = make_inputs();
+    let d = inp.dir.path();
+    let mut oconv = common::radiance("oconv");
+    oconv
+        .current_dir(d)
+        .args(["materials.rad", "room.rad", "sky.rad"]);
+    let oct = common::run_ok(&mut oconv, b"");
+    std::fs::write(d.join("room.oct"), oct).unwrap();
+    let mut rpict = common::radiance("rpict");
+    rpict
+        .current_dir(d)
+        .args(VIEW)
+        .args([VV, "-x", SIZE, "-y", SIZE, "-ps", "1"])
+        .args([
+            "-ab", "3", "-ad", "256", "-as", "0", "-aa", "0.2", "-ar", "32",
+        ])
+        .arg("room.oct");
+    let hdr = common::run_ok(&mut rpict, b"");
+    std::fs::write(d.join("rpict.hdr"), hdr).unwrap();
+    let pic = Picture::open(d.join("rpict.hdr")).unwrap();
+    assert_eq!((pic.width, pic.height), (inp.hdr.width, inp.hdr.height));
+    let img = photo::camera_srgb(&pic, inp.exposure).unwrap();
+    img.save(d.join("rpict.png")).unwrap();
+    let rows = run_tool(
+        d,
+        &[
+            "proxy",
+            "rpict.hdr",
+            "--points",
+            "points_rgb.csv",
+            "--mask",
+            "mask.png",
+            "--legend",
+            "legend.csv",
+            "--zones",
+            "zones.png",
+            "--trim",
+        ],
+        "rpict_proxy.csv",
+    );
+    let proxy = score("proxy RGB, zones (rpict)", &rows, true);
+    let rows = run_tool(
+        d,
+        &[
+            "photo",
+            "rpict.png",
+            "--mask",
+            "mask.png",
+            "--legend",
+            "legend.csv",
+        ],
+        "rpict_photo.csv",
+    );
+    let photo = score("photo PNG, cards (rpict)", &rows, true);
+    for sc in [&proxy, &photo] {
+        eprintln!(
+            "{}: MRB {:.1} %, RMSRE {:.1} %, mean dE {:.2}, max dE {:.2}",
+            sc.label, sc.mrb, sc.rmsre, sc.de_mean, sc.de_max
+        );
+    }
+    // Same bounds as on rdc's picture.
+    assert!(proxy.mrb.abs() < 2.0 && proxy.rmsre < 4.0 && proxy.de_mean < 1.0);
+    assert!(photo.mrb.abs() < 6.0 && photo.rmsre < 10.0 && photo.de_mean < 3.5);
+}
