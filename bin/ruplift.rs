@@ -33,7 +33,7 @@ Examples:
   The validation tables and plot (docs/uplift-validation.md):
     ruplift validate --plot docs/uplift-error-per-wavelength.png
   Materials from a phone photo with a white card (Ferwerda), legend lines 'rrggbb, name':
-    ruplift photo room.jpg --mask mask.png --legend legend.csv --table out.csv > mat.rad
+    ruplift photo room.jpg --mask mask.png --legend legend.csv --csv out.csv > mat.rad
   Grey-world white instead of a card, spectra through the uplifting:
     ruplift photo room.jpg --mask mask.png --grey-world 0.4 --spectrum > mat.rad
   Illuminance proxy on a calibrated HDR with known points, 5/95 % trimmed means:
@@ -223,9 +223,9 @@ struct MaterialOut {
     /// Roughness of the plastics.
     #[arg(long, default_value_t = 0.0)]
     rough: f64,
-    /// Also write the table of estimates (CSV: name,pixels,r,g,b,photopic,note).
+    /// Also write the estimates as a CSV table (name,pixels,r,g,b,photopic,note).
     #[arg(long, value_name = "FILE")]
-    table: Option<PathBuf>,
+    csv: Option<PathBuf>,
     /// Write the .rad materials here instead of standard output.
     #[arg(short = 'o', long, value_name = "FILE")]
     output: Option<PathBuf>,
@@ -331,7 +331,7 @@ fn load_mask(mask: &Path, legend: Option<&PathBuf>, erode: usize) -> Result<Labe
     Ok(LabelMap::open(mask, legend)?.erode(erode))
 }
 
-/// Write the .rad materials (stdout or -o, atomically) and the optional table.
+/// Write the .rad materials (stdout or -o, atomically) and the optional CSV table.
 fn write_outputs(rows: &[MaterialRow], o: &MaterialOut, command: &str) -> Result<(), Error> {
     if rows.is_empty() {
         return Err(Error::Usage(
@@ -349,7 +349,7 @@ fn write_outputs(rows: &[MaterialRow], o: &MaterialOut, command: &str) -> Result
         writeln!(w, "# {command}").at_path("<output>")?;
         write_materials(w, rows, uplifter.as_ref(), o.spec, o.rough).at_path("<output>")
     };
-    if let Some(t) = &o.table {
+    if let Some(t) = &o.csv {
         rdaylight::cli::write_atomically(t, |w| {
             write_material_table(w, rows).at_path(&t.display().to_string())
         })?;

@@ -334,7 +334,7 @@ fn make_inputs() -> Inputs {
     }
 }
 
-/// Parse `--table` CSV: name -> (pixels, rgb).
+/// Parse a `--csv` table: name -> (pixels, rgb).
 fn table(path: &Path) -> Vec<(String, usize, [f64; 3])> {
     let text = std::fs::read_to_string(path).unwrap();
     text.lines()
@@ -412,7 +412,7 @@ fn run_tool(dir: &Path, args: &[&str], table_name: &str) -> Vec<(String, usize, 
     let mut cmd = common::ours("ruplift");
     cmd.current_dir(dir)
         .args(args)
-        .args(["--table", table_name, "-o", "out.rad"]);
+        .args(["--csv", table_name, "-o", "out.rad"]);
     common::run_ok(&mut cmd, b"");
     table(&dir.join(table_name))
 }
