@@ -336,3 +336,84 @@ fn validation_on_measured_spectra() {
         "docs/uplift-validation.md is out of date: regenerate with `ruplift validate`"
     );
 }
+
+/// The committed per-wavelength error plot is what `ruplift validate --plot` draws now
+/// (compared pixel by pixel, so PNG encoder versions do not matter).
+#[test]
+fn error_plot_is_up_to_date() {
+    let drawn = eval::error_plot();
+    let path = common::repo().join("docs/uplift-error-per-wavelength.png");
+    let committed = image::open(&path)
+        .expect("docs/uplift-error-per-wavelength.png")
+        .to_rgb8();
+    assert_eq!(
+        (drawn.width(), drawn.height()),
+        (committed.width(), committed.height())
+    );
+    let differ = drawn
+        .pixels()
+        .zip(committed.pixels())
+        .filter(|(a, b)| a != b)
+        .count();
+    assert_eq!(
+        differ, 0,
+        "docs/uplift-error-per-wavelength.png is out of date: regenerate with \
+         `ruplift validate --plot docs/uplift-error-per-wavelength.png`"
+    );
+}
+
+/// `--table FILE`: built and saved on first use, read afterwards; the same materials either
+/// way, and the colour within dE 0.1 of the input (the polish stops at 0.01).
+#[test]
+fn cli_jakob_table() {
+    let dir = common::tmpdir();
+    let tab = dir.path().join("j.tab");
+    let args = |extra: &[&str]| -> Vec<String> {
+        let mut v: Vec<String> = ["batch", "--method", "jakob", "--format", "csv", "--table"]
+            .iter()
+            .map(|s| s.to_string())
+            .collect();
+        v.push(tab.display().to_string());
+        v.extend(extra.iter().map(|s| s.to_string()));
+        v
+    };
+    let colours = b"a 0.6 0.3 0.2\nb 0.1 0.5 0.8\n";
+    let first = common::run_ok(
+        common::ours("ruplift").args(args(&["--table-res", "8"])),
+        colours,
+    );
+    let size = std::fs::metadata(&tab).unwrap().len();
+    assert_eq!(
+        size as usize,
+        "ruplift-jakob-table 1 radiance 8\n".len() + 12 * 3 * 512
+    );
+    let second = common::run_ok(common::ours("ruplift").args(args(&[])), colours);
+    assert_eq!(first, second);
+    let csv = String::from_utf8(first).unwrap();
+    let u = Uplifter::new(RgbSpace::Radiance, Method::Jakob);
+    for (col, rgb) in [(1, [0.6, 0.3, 0.2]), (2, [0.1, 0.5, 0.8])] {
+        let s: Vec<f64> = csv
+            .lines()
+            .skip(1)
+            .map(|l| l.split(',').nth(col).unwrap().parse().unwrap())
+            .collect();
+        let spec: [f64; N] = s.try_into().unwrap();
+        let o = &u.observer;
+        let de = colorimetry::delta_e(o.lab(o.spectrum_xyz(&spec)), o.lab(o.rgb_to_xyz(rgb)));
+        assert!(de < 0.1, "{rgb:?}: dE {de}");
+    }
+    // The basis method has no table; a damaged table is an error naming the file.
+    let out = common::run(
+        common::ours("ruplift").args(["rgb", "0.5", "0.5", "0.5", "--table", "x.tab"]),
+        b"",
+    );
+    assert_eq!(out.status.code(), Some(1));
+    std::fs::write(&tab, b"ruplift-jakob-table 1 radiance 8\n\x00\x01").unwrap();
+    let out = common::run(common::ours("ruplift").args(args(&[])), colours);
+    assert_eq!(out.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("j.tab: expected 18432 bytes of coefficients"),
+        "{err}"
+    );
+}

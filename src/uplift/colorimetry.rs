@@ -334,7 +334,8 @@ pub fn linear_to_srgb(v: f64) -> f64 {
     e.copysign(v)
 }
 
-fn inv3(m: [[f64; 3]; 3]) -> [[f64; 3]; 3] {
+/// Inverse of a 3 x 3 matrix (cofactors).
+pub fn inv3(m: [[f64; 3]; 3]) -> [[f64; 3]; 3] {
     let d = m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
         - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
         + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
@@ -347,7 +348,8 @@ fn inv3(m: [[f64; 3]; 3]) -> [[f64; 3]; 3] {
     ]
 }
 
-fn mul3(m: &[[f64; 3]; 3], v: [f64; 3]) -> [f64; 3] {
+/// A 3 x 3 matrix times a vector.
+pub fn mul3(m: &[[f64; 3]; 3], v: [f64; 3]) -> [f64; 3] {
     std::array::from_fn(|r| m[r][0] * v[0] + m[r][1] * v[1] + m[r][2] * v[2])
 }
 

@@ -140,6 +140,66 @@ pub fn light_deviation(
         .collect())
 }
 
+/// Per wavelength, the median and the 90th percentile over the samples of the absolute
+/// relative error `|u(l) - m(l)| / m(l)`, in %.
+pub fn error_percentiles(measured: &[&Spectrum], uplifted: &[Spectrum]) -> (Spectrum, Spectrum) {
+    let mut med = [0.0; N];
+    let mut p90 = [0.0; N];
+    for i in 0..N {
+        let rel: Vec<f64> = measured
+            .iter()
+            .zip(uplifted)
+            .map(|(m, u)| 100.0 * ((u[i] - m[i]) / m[i]).abs())
+            .collect();
+        med[i] = median(&rel);
+        p90[i] = percentile(&rel, 90.0);
+    }
+    (med, p90)
+}
+
+/// The per-wavelength error plot of `docs/uplift-error-per-wavelength.png`: Radiance RGB,
+/// held-out Munsell chips and the ColorChecker, median and 90th percentile of the absolute
+/// relative error for both methods, with the seed's 20 % level.
+pub fn error_plot() -> image::RgbImage {
+    use super::plot::{Axes, Panel, Series, panels};
+    let wl = wavelengths();
+    let sets = datasets();
+    let mut out = Vec::new();
+    for (name, spectra) in sets.iter().take(2) {
+        let mut series = Vec::new();
+        for (method, label, colour) in [
+            (Method::Basis, "BASIS", [31u8, 119, 180]),
+            (Method::Jakob, "JAKOB-HANIKA", [230, 120, 20]),
+        ] {
+            let u = Uplifter::new(RgbSpace::Radiance, method);
+            let ev = evaluate(&u, spectra);
+            let (med, p90) = error_percentiles(spectra, &ev.uplifted);
+            for (stat, v, dashed) in [("MEDIAN", med, false), ("90TH PERCENTILE", p90, true)] {
+                series.push(Series {
+                    label: format!("{label} {stat}"),
+                    colour,
+                    dashed,
+                    points: wl.iter().zip(v).map(|(l, e)| (*l, e)).collect(),
+                });
+            }
+        }
+        out.push(Panel {
+            title: name.to_string(),
+            series,
+        });
+    }
+    let axes = Axes {
+        x_range: (380.0, 780.0),
+        x_ticks: vec![400.0, 500.0, 600.0, 700.0],
+        x_label: "WAVELENGTH (NM)".into(),
+        y_range: (0.0, 100.0),
+        y_ticks: vec![0.0, 20.0, 40.0, 60.0, 80.0, 100.0],
+        y_label: "|RELATIVE ERROR| % (RADIANCE RGB, CLIPPED AT 100)".into(),
+        reference: Some((20.0, "SEED 20 % LEVEL".into())),
+    };
+    panels(&out, &axes, 480, 300)
+}
+
 /// The data sets of the validation: name and spectra.
 pub fn datasets() -> Vec<(&'static str, Vec<&'static Spectrum>)> {
     let held: Vec<&Spectrum> = munsell()

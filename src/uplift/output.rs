@@ -7,6 +7,8 @@
 //!   is exactly the spectrum (its RGB is left at 1 1 1).
 //! - `specfile` data (the format of [`crate::scene::specdata`]): `1`, `380 780 81`, values.
 //! - CSV: `nm,NAME1,NAME2,...`, one row per wavelength.
+//! - Materials estimated from pictures ([`MaterialRow`]): RGB `plastic`s (or spectra through
+//!   an uplifter) and a CSV table.
 //!
 //! Batch input: one colour per line, `name R G B` (whitespace-separated), `#` comments and
 //! blank lines ignored; errors name file and line.
@@ -82,6 +84,91 @@ pub fn write_csv(w: &mut dyn Write, spectra: &[(String, Spectrum)]) -> std::io::
     for (i, l) in wavelengths().iter().enumerate() {
         let row: Vec<String> = spectra.iter().map(|(_, s)| fmt(s[i])).collect();
         writeln!(w, "{l},{}", row.join(","))?;
+    }
+    Ok(())
+}
+
+/// One material estimated from pictures (photo or illuminance-proxy methods).
+#[derive(Debug, Clone, PartialEq)]
+pub struct MaterialRow {
+    pub name: String,
+    /// Radiance RGB reflectance (grey methods repeat one value).
+    pub rgb: [f64; 3],
+    /// Pixels averaged.
+    pub pixels: usize,
+    /// What the estimate rests on (white reference, kriging zone, ...).
+    pub note: String,
+}
+
+/// Photopic (luminous) reflectance of a Radiance RGB reflectance (Radiance's
+/// `luminance()` weights, [`crate::radiometry::RGB_PHOTOPIC`]).
+pub fn photopic(rgb: [f64; 3]) -> f64 {
+    (0..3)
+        .map(|c| crate::radiometry::RGB_PHOTOPIC[c] * rgb[c])
+        .sum()
+}
+
+/// Write `plastic` materials with the estimated RGB, or, with an uplifter, each as a
+/// `spectrum` + `plastic` pair (see [`write_rad`]). Reflectances are clamped to 0..1 (a
+/// plastic above 1 creates energy); the clamping is noted in a comment.
+pub fn write_materials(
+    w: &mut dyn Write,
+    rows: &[MaterialRow],
+    uplifter: Option<&super::Uplifter>,
+    specularity: f64,
+    roughness: f64,
+) -> std::io::Result<()> {
+    for r in rows {
+        let rgb = r.rgb.map(|v| v.clamp(0.0, 1.0));
+        write!(
+            w,
+            "# {}: rgb {} {} {}, {} pixels, {}",
+            r.name,
+            fmt(r.rgb[0]),
+            fmt(r.rgb[1]),
+            fmt(r.rgb[2]),
+            r.pixels,
+            r.note
+        )?;
+        if rgb != r.rgb {
+            write!(w, " (clamped to 0..1)")?;
+        }
+        writeln!(w)?;
+        match uplifter {
+            Some(u) => {
+                let up = u.uplift_rgb(rgb);
+                write_rad(w, &r.name, &up.spectrum, specularity, roughness)?;
+            }
+            None => writeln!(
+                w,
+                "void plastic {}\n0\n0\n5 {} {} {} {} {}\n",
+                r.name,
+                fmt(rgb[0]),
+                fmt(rgb[1]),
+                fmt(rgb[2]),
+                fmt(specularity),
+                fmt(roughness)
+            )?,
+        }
+    }
+    Ok(())
+}
+
+/// Write the materials as CSV: `name,pixels,r,g,b,photopic,note`.
+pub fn write_material_table(w: &mut dyn Write, rows: &[MaterialRow]) -> std::io::Result<()> {
+    writeln!(w, "name,pixels,r,g,b,photopic,note")?;
+    for r in rows {
+        writeln!(
+            w,
+            "{},{},{:.4},{:.4},{:.4},{:.4},{}",
+            r.name,
+            r.pixels,
+            r.rgb[0],
+            r.rgb[1],
+            r.rgb[2],
+            photopic(r.rgb),
+            r.note.replace(',', ";")
+        )?;
     }
     Ok(())
 }
