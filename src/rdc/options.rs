@@ -178,6 +178,23 @@ pub struct Options {
     #[arg(long = "se-out", value_name = "FILE")]
     pub se_out: Option<String>,
 
+    /// Write path re-weighting records to FILE (no Radiance counterpart): per record and
+    /// column the contribution split by which tracked materials the paths scattered at, so
+    /// that coefficients for scaled material reflectances/transmittances follow without
+    /// re-tracing (rdaylight::trace::reweight documents the format and what is exact).
+    /// Needs -m or --suns. The normal output is unchanged.
+    #[arg(long = "reweight", value_name = "FILE")]
+    pub reweight: Option<String>,
+
+    /// Materials tracked by --reweight, comma-separated names (default: every plastic,
+    /// metal, trans, glass and mirror on a surface); others count as fixed.
+    #[arg(
+        long = "reweight-materials",
+        value_name = "NAME,...",
+        value_delimiter = ','
+    )]
+    pub reweight_materials: Option<Vec<String>>,
+
     /// Do not run !commands in scene files (error instead).
     #[arg(long = "no-exec")]
     pub no_exec: bool,

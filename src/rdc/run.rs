@@ -30,6 +30,7 @@ use crate::radiometry::{Channels, RGB_PHOTOPIC, RGB_PHOTOPIC_ROUNDED, WHITE_EFFI
 use crate::scene::LoadOptions;
 use crate::sky::SkyPatches;
 use crate::trace::Renderable;
+use crate::trace::reweight::{RowWriter, Signature};
 use rand::Rng as _;
 use rayon::prelude::*;
 use std::io::{BufRead, Write};
@@ -49,6 +50,8 @@ pub struct RecordResult {
     /// Relative standard error ([`Tally::relative_se`]).
     pub rel_se: f64,
     pub samples: u64,
+    /// Re-weighting terms `(column, signature, ncomp means)` when the job keeps them.
+    pub terms: Vec<(u32, Signature, Vec<f64>)>,
 }
 
 /// What every record shares.
@@ -62,6 +65,8 @@ pub struct Job<'a> {
     pub target_se: Option<f64>,
     pub max_samples: usize,
     pub seed: u64,
+    /// Keep re-weighting terms per record (`--reweight`).
+    pub terms: bool,
 }
 
 impl Job<'_> {
@@ -102,6 +107,7 @@ impl Job<'_> {
             values,
             rel_se: tally.relative_se(),
             samples: tally.samples(),
+            terms: tally.terms(),
         }
     }
 
@@ -118,7 +124,10 @@ impl Job<'_> {
             .enumerate()
             .with_min_len(4)
             .map_init(
-                || Tally::new(ncols, self.ncomp, &self.weights),
+                || {
+                    let t = Tally::new(ncols, self.ncomp, &self.weights);
+                    if self.terms { t.with_terms() } else { t }
+                },
                 |tally, (i, item)| {
                     self.compute(first_index + i as u64, &|rng| query(item, rng), tally)
                 },
@@ -173,7 +182,20 @@ pub fn main(opts: &Options, view: Option<View>, command: &[String]) -> Result<()
     };
 
     let params = trace_params(&sampling);
-    let estimator = Traced::new(renderable, &params, sampling.ad);
+    let tracking = match &opts.reweight {
+        Some(_) => Some(renderable.tracking(&intake.scene, opts.reweight_materials.as_deref())?),
+        None => None,
+    };
+    let mut estimator = Traced::new(renderable, &params, sampling.ad);
+    let mut reweight = None;
+    if let (Some(path), Some(t)) = (&opts.reweight, tracking) {
+        reweight = Some(ReweightOut {
+            path: path.clone(),
+            materials: t.names.clone(),
+            command: command.join(" "),
+        });
+        estimator = estimator.with_tracking(t);
+    }
     let weights = if channels.ncomp == 3 {
         RGB_PHOTOPIC.to_vec()
     } else {
@@ -188,6 +210,7 @@ pub fn main(opts: &Options, view: Option<View>, command: &[String]) -> Result<()
         target_se: opts.target_se,
         max_samples: opts.max_samples.unwrap_or(100 * sampling.ad),
         seed: opts.seed,
+        terms: reweight.is_some(),
     };
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(opts.threads.unwrap_or(0))
@@ -196,8 +219,18 @@ pub fn main(opts: &Options, view: Option<View>, command: &[String]) -> Result<()
     let out_channels = if opts.oi { Channels::mono() } else { channels };
     let stdout = std::io::stdout();
     let seekable = crate::cli::stdout_is_file();
+    let reweight = reweight.as_ref();
     pool.install(|| match view {
-        Some(v) => picture(opts, &job, v, command, out_format, out_channels, seekable),
+        Some(v) => picture(
+            opts,
+            &job,
+            v,
+            command,
+            out_format,
+            out_channels,
+            seekable,
+            reweight,
+        ),
         None => {
             let stdin = std::io::stdin();
             let reader = RayReader::new(stdin.lock(), "<stdin>", ray_format);
@@ -209,6 +242,7 @@ pub fn main(opts: &Options, view: Option<View>, command: &[String]) -> Result<()
                 out_format,
                 out_channels,
                 (stdout.lock(), seekable),
+                reweight,
             )
         }
     })
@@ -236,6 +270,14 @@ fn check_combinations(opts: &Options, picture: bool, channels: &Channels) -> Res
         if t.is_nan() || t <= 0.0 {
             return Err(Error::Usage(format!("--target-se {t}: expected > 0")));
         }
+    }
+    if opts.reweight.is_some() && opts.mf.is_none() && opts.suns.is_none() {
+        return usage(
+            "--reweight needs coefficients (-m MF or --suns): point-in-time values are not re-weighted",
+        );
+    }
+    if opts.reweight_materials.is_some() && opts.reweight.is_none() {
+        return usage("--reweight-materials needs --reweight FILE");
     }
     if picture && opts.irradiance {
         return usage("-I with view options: pictures are radiance (drop -I or the view)");
@@ -381,6 +423,7 @@ impl Progress {
 }
 
 /// Sensor mode: rays from `reader`, one output row per ray.
+#[allow(clippy::too_many_arguments)]
 pub fn sensors<R: BufRead, W: Write>(
     opts: &Options,
     job: &Job,
@@ -389,6 +432,7 @@ pub fn sensors<R: BufRead, W: Write>(
     format: DataFormat,
     channels: Channels,
     (out, seekable): (W, bool),
+    reweight: Option<&ReweightOut>,
 ) -> Result<()> {
     let irradiance = opts.irradiance;
     let query = move |r: &Ray, _: &mut Rng| sensor_query(r, irradiance);
@@ -408,6 +452,7 @@ pub fn sensors<R: BufRead, W: Write>(
     let header = output::header(command, None, &channels, Some(nrows), ncols, format);
     // The --se-out file first: an unwritable path must fail before stdout gets a header.
     let mut se_out = output::SeWriter::open(opts.se_out.as_deref(), command, nrows)?;
+    let mut rw_out = ReweightFile::open(reweight, nrows, ncols, job.ncomp)?;
     let mut sink = Sink::matrix(out, header, nrows, ncols, channels, format, opts, seekable)?;
     let progress = Progress {
         show: crate::cli::show_progress(),
@@ -438,6 +483,7 @@ pub fn sensors<R: BufRead, W: Write>(
         for r in &results {
             sink.write_row(&to_output(&r.values, opts.oi))?;
             se_out.write(r)?;
+            rw_out.write(r)?;
         }
         sink.flush()?;
         done += block.len();
@@ -451,11 +497,13 @@ pub fn sensors<R: BufRead, W: Write>(
         ));
     }
     se_out.finish()?;
+    rw_out.finish()?;
     sink.finish()
 }
 
 /// Picture mode: one record per pixel, rows top to bottom; a picture under a sky, or with
 /// coefficient modes one matrix row per pixel.
+#[allow(clippy::too_many_arguments)]
 fn picture(
     opts: &Options,
     job: &Job,
@@ -464,6 +512,7 @@ fn picture(
     format: DataFormat,
     channels: Channels,
     seekable: bool,
+    reweight: Option<&ReweightOut>,
 ) -> Result<()> {
     let cam: Camera = view.setup()?;
     let (xres, yres, _) = cam.normalize_resolution(
@@ -496,6 +545,7 @@ fn picture(
     let stdout = std::io::stdout();
     let matrix = !matches!(job.mode, Mode::Values { .. });
     let mut se_out = output::SeWriter::open(opts.se_out.as_deref(), command, nrec)?;
+    let mut rw_out = ReweightFile::open(reweight, nrec, ncols, job.ncomp)?;
     let mut sink = if matrix {
         let header = output::header(
             command,
@@ -544,6 +594,7 @@ fn picture(
         }
         for r in &results {
             se_out.write(r)?;
+            rw_out.write(r)?;
         }
         sink.flush()?;
         py = end;
@@ -551,5 +602,79 @@ fn picture(
     }
     progress.end();
     se_out.finish()?;
+    rw_out.finish()?;
     sink.finish()
+}
+
+/// Where `--reweight` goes and what its header says.
+pub struct ReweightOut {
+    pub path: String,
+    pub materials: Vec<String>,
+    pub command: String,
+}
+
+/// The `--reweight` file being written: rows go to a temporary file beside the target,
+/// renamed over it by [`ReweightFile::finish`] (a failed run leaves nothing half-written).
+struct ReweightFile {
+    inner: Option<(
+        String,
+        std::path::PathBuf,
+        RowWriter<std::io::BufWriter<std::fs::File>>,
+    )>,
+}
+
+impl ReweightFile {
+    fn open(r: Option<&ReweightOut>, nrows: usize, ncols: usize, ncomp: usize) -> Result<Self> {
+        let Some(r) = r else {
+            return Ok(ReweightFile { inner: None });
+        };
+        let path = std::path::Path::new(&r.path);
+        let dir = path
+            .parent()
+            .filter(|p| !p.as_os_str().is_empty())
+            .unwrap_or(std::path::Path::new("."));
+        let name = path
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        let tmp = dir.join(format!(".{name}.{}.part", std::process::id()));
+        let f = std::fs::File::create(&tmp).map_err(|e| Error::io(&r.path, e))?;
+        let w = RowWriter::start(
+            std::io::BufWriter::new(f),
+            &r.materials,
+            nrows,
+            ncols,
+            ncomp,
+            &r.command,
+        )
+        .map_err(|e| Error::io(&r.path, e))?;
+        Ok(ReweightFile {
+            inner: Some((r.path.clone(), tmp, w)),
+        })
+    }
+
+    fn write(&mut self, r: &RecordResult) -> Result<()> {
+        if let Some((path, _, w)) = &mut self.inner {
+            w.row(&r.terms).map_err(|e| Error::io(path.as_str(), e))?;
+        }
+        Ok(())
+    }
+
+    fn finish(mut self) -> Result<()> {
+        if let Some((path, tmp, w)) = self.inner.take() {
+            let mut f = w.into_inner();
+            f.flush().map_err(|e| Error::io(path.as_str(), e))?;
+            drop(f);
+            std::fs::rename(&tmp, &path).map_err(|e| Error::io(path.as_str(), e))?;
+        }
+        Ok(())
+    }
+}
+
+impl Drop for ReweightFile {
+    fn drop(&mut self) {
+        if let Some((_, tmp, _)) = self.inner.take() {
+            let _ = std::fs::remove_file(tmp);
+        }
+    }
 }

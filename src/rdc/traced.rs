@@ -21,6 +21,7 @@ use crate::geometry::Vec3;
 use crate::material::Color;
 use crate::material::sampling::cosine_hemisphere;
 use crate::trace::integrator::SENSOR_OFFSET;
+use crate::trace::reweight::{Events, Tracking};
 use crate::trace::{Renderable, TraceParams};
 use std::f64::consts::PI;
 
@@ -30,6 +31,8 @@ pub struct Traced {
     direct_params: TraceParams,
     /// Starting path weight for `-lw` roulette (1/`-ad`).
     w0: f64,
+    /// Materials whose re-weighting terms are recorded (`--reweight`).
+    track: Option<Tracking>,
 }
 
 impl Traced {
@@ -51,7 +54,15 @@ impl Traced {
                 ..params
             },
             w0: 1.0 / ad.max(1) as f64,
+            track: None,
         }
+    }
+
+    /// Record re-weighting terms for the materials of `track` (coefficient modes; the
+    /// tally must keep terms, [`super::tracer::Tally::with_terms`]).
+    pub fn with_tracking(mut self, track: Tracking) -> Traced {
+        self.track = Some(track);
+        self
     }
 }
 
@@ -59,6 +70,13 @@ fn add_color(tally: &mut Tally, col: usize, c: &Color, scale: f64, buf: &mut Vec
     buf.clear();
     buf.extend(c.as_slice().iter().map(|&v| v as f64 * scale));
     tally.add(col, buf);
+}
+
+/// [`add_color`] with the contribution's tracked events (re-weighting runs).
+fn add_term(tally: &mut Tally, col: usize, c: &Color, scale: f64, ev: Events, buf: &mut Vec<f64>) {
+    buf.clear();
+    buf.extend(c.as_slice().iter().map(|&v| v as f64 * scale));
+    tally.add_term(col, ev.signature(), buf);
 }
 
 impl Estimator for Traced {
@@ -93,6 +111,7 @@ impl Estimator for Traced {
                     Quantity::Radiance => (Vec3::from(q.org), n, false, 1.0, 1.0),
                 };
                 // Escapes go straight into the tally (no per-sample allocation).
+                let track = self.track.as_ref();
                 self.scene.path_sample(
                     org,
                     dir,
@@ -101,8 +120,16 @@ impl Estimator for Traced {
                     w0,
                     params,
                     rng,
-                    &mut |e, beta| {
-                        add_color(tally, patches.bin_of(e.to_array()), &beta, scale, &mut buf);
+                    track,
+                    &mut |e, beta, events| {
+                        let bin = patches.bin_of(e.to_array());
+                        if track.is_some() {
+                            buf.clear();
+                            buf.extend(beta.as_slice().iter().map(|&v| v as f64 * scale));
+                            tally.add_term(bin, events.signature(), &buf);
+                        } else {
+                            add_color(tally, bin, &beta, scale, &mut buf);
+                        }
                     },
                 );
             }
@@ -113,8 +140,12 @@ impl Estimator for Traced {
                     if c <= 0.0 {
                         continue;
                     }
-                    if let Some(t) = self.scene.transmission_towards(org, Vec3::from(s.dir)) {
-                        add_color(tally, i, &t, c * s.solid_angle, &mut buf);
+                    if let Some((t, ev)) = self.scene.transmission_towards_tracked(
+                        org,
+                        Vec3::from(s.dir),
+                        self.track.as_ref(),
+                    ) {
+                        add_term(tally, i, &t, c * s.solid_angle, ev, &mut buf);
                     }
                 }
             }
@@ -124,8 +155,12 @@ impl Estimator for Traced {
                     .iter()
                     .position(|s| n.normalize().dot(Vec3::from(s.dir)) >= s.cos_half)
                 {
-                    if let Some(t) = self.scene.transmission_towards(Vec3::from(q.org), n) {
-                        add_color(tally, i, &t, 1.0, &mut buf);
+                    if let Some((t, ev)) = self.scene.transmission_towards_tracked(
+                        Vec3::from(q.org),
+                        n,
+                        self.track.as_ref(),
+                    ) {
+                        add_term(tally, i, &t, 1.0, ev, &mut buf);
                     }
                 }
             }
@@ -146,7 +181,8 @@ impl Estimator for Traced {
                         self.w0,
                         &self.params,
                         rng,
-                        &mut |_, _| {},
+                        None,
+                        &mut |_, _, _| {},
                     );
                     e += l.scale(PI);
                 }
@@ -161,7 +197,8 @@ impl Estimator for Traced {
                     1.0,
                     &self.params,
                     rng,
-                    &mut |_, _| {},
+                    None,
+                    &mut |_, _, _| {},
                 );
                 add_color(tally, 0, &l, 1.0, &mut buf);
             }

@@ -52,6 +52,7 @@
 //! modifier is not tracked; no next-event estimation is done.
 
 use super::compile::Renderable;
+use super::reweight::{Events, Tracking, scales_with_colour};
 use crate::geometry::{Hit, Ray, Vec3};
 use crate::material::sampling::{cosine_hemisphere, frame};
 use crate::material::{Color, Material, SampleKind, Surface};
@@ -156,6 +157,8 @@ struct PathState {
     sees_sources: bool,
     diffuse: u32,
     depth: u32,
+    /// Tracked materials met (re-weighting records, [`super::reweight`]).
+    events: Events,
 }
 
 /// Jittered-stratified cosine samples: index `k` of `n`.
@@ -181,12 +184,25 @@ impl Renderable {
     /// Transmission of a shadow ray from `org` towards the distant direction `dir`:
     /// product of what each crossed surface passes; `None` when blocked.
     fn shadow(&self, org: Vec3, dir: Vec3, rays: &mut u64) -> Option<Color> {
+        self.shadow_tracked(org, dir, rays, None).map(|(t, _)| t)
+    }
+
+    /// [`Renderable::shadow`] that also records the tracked panes crossed (each crossing's
+    /// coefficient, glass `T` or trans `rho tspec`, scales with the pane's colour).
+    fn shadow_tracked(
+        &self,
+        org: Vec3,
+        dir: Vec3,
+        rays: &mut u64,
+        track: Option<&Tracking>,
+    ) -> Option<(Color, Events)> {
+        let mut events = Events::default();
         let mut t = Color::splat(self.ncomp, 1.0);
         let mut ray = Ray { org, dir };
         // A bounded number of crossings (double panes, furniture glass...).
         for _ in 0..32 {
             let Some(h) = self.cast(&ray, rays) else {
-                return Some(t);
+                return Some((t, events));
             };
             let info = self.surfaces[h.object as usize];
             let m = &self.materials[info.material as usize];
@@ -195,6 +211,11 @@ impl Renderable {
                 flat: info.flat,
             };
             t = t * m.shadow_transmission((-dir).to_array(), &s)?;
+            if let Some(tr) = track {
+                if scales_with_colour(m, crate::material::SampleKind::PureTransmit) {
+                    events.push(tr.of(info.material));
+                }
+            }
             if t.max() <= 0.0 {
                 return None;
             }
@@ -232,7 +253,8 @@ impl Renderable {
         mode: Mode,
         rng: &mut impl Rng,
         rays: &mut u64,
-        escape: &mut dyn FnMut(Vec3, Color),
+        track: Option<&Tracking>,
+        escape: &mut dyn FnMut(Vec3, Color, &Events),
     ) -> Color {
         let mut out = Color::black(self.ncomp);
         loop {
@@ -253,7 +275,7 @@ impl Renderable {
                             )
                         };
                         if counts {
-                            escape(ray.dir, st.beta);
+                            escape(ray.dir, st.beta, &st.events);
                         }
                     }
                 }
@@ -297,6 +319,11 @@ impl Renderable {
             }
             if !smp.kind.sees_sources() {
                 st.sees_sources = false;
+            }
+            if let Some(tr) = track {
+                if scales_with_colour(m, smp.kind) {
+                    st.events.push(tr.of(info.material));
+                }
             }
             st.beta = st.beta * smp.weight;
             let w = w0 * st.beta.mean();
@@ -353,6 +380,7 @@ impl Renderable {
                 sees_sources: false,
                 diffuse: 1,
                 depth: 1,
+                events: Events::default(),
             };
             sample_total.iter_mut().for_each(|x| *x = 0.0);
             let mut rays = 0;
@@ -364,7 +392,8 @@ impl Renderable {
                 Mode::Coefficients,
                 rng,
                 &mut rays,
-                &mut |d, beta| {
+                None,
+                &mut |d, beta, _| {
                     let bin = patches.bin_of(d.to_array());
                     let row = &mut out[bin * nc..(bin + 1) * nc];
                     for (c, (o, &b)) in row.iter_mut().zip(beta.as_slice()).enumerate() {
@@ -427,6 +456,7 @@ impl Renderable {
                 sees_sources: false,
                 diffuse: 1,
                 depth: 1,
+                events: Events::default(),
             };
             let l = self.walk(
                 Ray { org: p, dir },
@@ -436,7 +466,8 @@ impl Renderable {
                 Mode::Values,
                 rng,
                 &mut rays,
-                &mut |_, _| {},
+                None,
+                &mut |_, _, _| {},
             );
             for (x, &y) in v.iter_mut().zip(l.as_slice()) {
                 *x = PI * y as f64;
@@ -469,6 +500,7 @@ impl Renderable {
             sees_sources: true,
             diffuse: 0,
             depth: 0,
+            events: Events::default(),
         };
         let mut rays = 0;
         let l = self.walk(
@@ -479,7 +511,8 @@ impl Renderable {
             Mode::Values,
             rng,
             &mut rays,
-            &mut |_, _| {},
+            None,
+            &mut |_, _, _| {},
         );
         (l, rays)
     }
@@ -493,6 +526,8 @@ impl Renderable {
     /// roulette (Radiance: 1/`-ad` for ambient samples, 1 for view rays). In coefficient mode
     /// `escape(dir, throughput)` is called for every escape into a distant glow; in value
     /// mode the radiance found is returned. Returns the value and the rays cast.
+    /// With `track`, `escape` also receives the tracked materials the path met
+    /// ([`super::reweight`]); without, the events are empty.
     #[allow(clippy::too_many_arguments)]
     pub fn path_sample(
         &self,
@@ -503,7 +538,8 @@ impl Renderable {
         w0: f64,
         params: &TraceParams,
         rng: &mut impl Rng,
-        escape: &mut dyn FnMut(Vec3, Color),
+        track: Option<&Tracking>,
+        escape: &mut dyn FnMut(Vec3, Color, &Events),
     ) -> (Color, u64) {
         let nc = self.ncomp;
         let st = PathState {
@@ -511,6 +547,7 @@ impl Renderable {
             sees_sources: !from_sensor,
             diffuse: u32::from(from_sensor),
             depth: u32::from(from_sensor),
+            events: Events::default(),
         };
         let mode = if coefficients {
             Mode::Coefficients
@@ -526,6 +563,7 @@ impl Renderable {
             mode,
             rng,
             &mut rays,
+            track,
             escape,
         );
         (l, rays)
@@ -536,6 +574,17 @@ impl Renderable {
     pub fn transmission_towards(&self, org: Vec3, dir: Vec3) -> Option<Color> {
         let mut rays = 0;
         self.shadow(org, dir.normalize(), &mut rays)
+    }
+
+    /// [`Renderable::transmission_towards`] with the tracked panes crossed.
+    pub fn transmission_towards_tracked(
+        &self,
+        org: Vec3,
+        dir: Vec3,
+        track: Option<&Tracking>,
+    ) -> Option<(Color, Events)> {
+        let mut rays = 0;
+        self.shadow_tracked(org, dir.normalize(), &mut rays, track)
     }
 
     /// The direct part of [`Renderable::irradiance`]: `L omega cos` from every distant
