@@ -13,7 +13,7 @@
 //! ([`Tally::relative_se`]) is at most the target or `--max-samples` is reached. The value
 //! written is the mean over all samples taken.
 
-use super::intake::{self, Sky};
+use super::intake;
 use super::options::{IRRADIANCE_OFFSET, Options, RPICT_RES, Sampling};
 use super::output::{self, Sink};
 use super::traced::Traced;
@@ -153,7 +153,7 @@ pub fn main(opts: &Options, view: Option<View>, command: &[String]) -> Result<()
     // Scene first: its errors come before anything is read or written.
     let mut lopts = LoadOptions::from_env();
     lopts.allow_exec &= !opts.no_exec;
-    let intake = intake::load(&opts.scene, &lopts)?;
+    let scene = intake::load(&opts.scene, &lopts)?;
     // Compile the surfaces (materials through modifier chains, one BVH) before any input
     // is read: unsupported primitives stop here with file:line.
     let shading = ShadingOptions {
@@ -161,7 +161,7 @@ pub fn main(opts: &Options, view: Option<View>, command: &[String]) -> Result<()
         st: sampling.st,
         ..ShadingOptions::rcontrib()
     };
-    let renderable = Renderable::compile(&intake.scene, &channels, &shading)?;
+    let renderable = Renderable::compile(&scene, &channels, &shading)?;
 
     let patches = opts.mf.map(SkyPatches::new);
     let suns = match &opts.suns {
@@ -176,14 +176,13 @@ pub fn main(opts: &Options, view: Option<View>, command: &[String]) -> Result<()
     } else if let Some(s) = &suns {
         Mode::Suns { suns: s }
     } else {
-        check_sky(&intake.sky, &opts.scene)?;
-        intake.sky.check_channels(channels.ncomp)?;
-        Mode::Values { sky: &intake.sky }
+        check_sky(&renderable, &opts.scene)?;
+        Mode::Values
     };
 
     let params = trace_params(&sampling);
     let tracking = match &opts.reweight {
-        Some(_) => Some(renderable.tracking(&intake.scene, opts.reweight_materials.as_deref())?),
+        Some(_) => Some(renderable.tracking(&scene, opts.reweight_materials.as_deref())?),
         None => None,
     };
     let mut estimator = Traced::new(renderable, &params, sampling.ad);
@@ -288,8 +287,8 @@ fn check_combinations(opts: &Options, picture: bool, channels: &Channels) -> Res
     Ok(())
 }
 
-fn check_sky(sky: &Sky, scene: &[String]) -> Result<()> {
-    if sky.is_empty() {
+fn check_sky(r: &Renderable, scene: &[String]) -> Result<()> {
+    if r.sources().is_empty() {
         let what = if scene.is_empty() {
             "no scene given".to_string()
         } else {
@@ -543,7 +542,7 @@ fn picture(
     let nrec = xres * yres;
     let ncols = job.mode.ncols();
     let stdout = std::io::stdout();
-    let matrix = !matches!(job.mode, Mode::Values { .. });
+    let matrix = !matches!(job.mode, Mode::Values);
     let mut se_out = output::SeWriter::open(opts.se_out.as_deref(), command, nrec)?;
     let mut rw_out = ReweightFile::open(reweight, nrec, ncols, job.ncomp)?;
     let mut sink = if matrix {

@@ -164,7 +164,7 @@ impl Estimator for Traced {
                     }
                 }
             }
-            (Quantity::Irradiance, Mode::Values { .. }) => {
+            (Quantity::Irradiance, Mode::Values) => {
                 let nn = n.normalize();
                 let org = Vec3::from(q.org) + nn * SENSOR_OFFSET;
                 let mut e = self.scene.direct_irradiance(org, nn);
@@ -188,7 +188,7 @@ impl Estimator for Traced {
                 }
                 add_color(tally, 0, &e, 1.0, &mut buf);
             }
-            (Quantity::Radiance, Mode::Values { .. }) => {
+            (Quantity::Radiance, Mode::Values) => {
                 let (l, _) = self.scene.path_sample(
                     Vec3::from(q.org),
                     n,

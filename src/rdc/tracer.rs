@@ -27,7 +27,6 @@
 //! coefficient of an upward sensor is its patch's projected solid angle, the row sums to
 //! pi), which the tests compare with and with real rcontrib/rtrace.
 
-use super::intake::Sky;
 use crate::sky::SkyPatches;
 use crate::trace::reweight::{Signature, TermTally};
 use rand::Rng as _;
@@ -105,8 +104,9 @@ pub enum Mode<'a> {
     },
     /// Sun coefficients: column `i` is the unit-radiance disc `suns[i]`, seen directly.
     Suns { suns: &'a [SunDisc] },
-    /// Point-in-time values under `sky`: one column.
-    Values { sky: &'a Sky },
+    /// Point-in-time values under the scene's own sky and suns
+    /// ([`crate::trace::sources`]): one column.
+    Values,
 }
 
 impl Mode<'_> {
@@ -115,7 +115,7 @@ impl Mode<'_> {
         match self {
             Mode::Sky { patches, .. } => patches.len(),
             Mode::Suns { suns } => suns.len(),
-            Mode::Values { .. } => 1,
+            Mode::Values => 1,
         }
     }
 }
