@@ -211,6 +211,12 @@ pub struct Options {
     )]
     pub reweight_materials: Option<Vec<String>>,
 
+    /// Print timings (load, compile and BVH build, trace), the rays cast by paths and rays
+    /// per second to standard error at the end (no Radiance counterpart; cf. rtrace's
+    /// report).
+    #[arg(long = "stats")]
+    pub stats: bool,
+
     /// Do not run !commands in scene files (error instead; Radiance always runs them).
     #[arg(long = "no-exec")]
     pub no_exec: bool,

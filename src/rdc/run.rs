@@ -151,9 +151,11 @@ pub fn main(opts: &Options, view: Option<View>, command: &[String]) -> Result<()
     check_combinations(opts, view.is_some(), &channels)?;
 
     // Scene first: its errors come before anything is read or written.
+    let t_start = std::time::Instant::now();
     let mut lopts = LoadOptions::from_env();
     lopts.allow_exec &= !opts.no_exec;
     let scene = intake::load(&opts.scene, &lopts)?;
+    let t_loaded = t_start.elapsed();
     // Compile the surfaces (materials through modifier chains, one BVH) before any input
     // is read: unsupported primitives stop here with file:line.
     let shading = ShadingOptions {
@@ -162,6 +164,10 @@ pub fn main(opts: &Options, view: Option<View>, command: &[String]) -> Result<()
         ..ShadingOptions::rcontrib()
     };
     let renderable = Renderable::compile(&scene, &channels, &shading)?;
+    let t_compiled = t_start.elapsed();
+    let nsurfaces = renderable.surface_count();
+    let nprims = renderable.bvh().primitive_count();
+    let bvh_build = renderable.bvh().build_time();
 
     let patches = opts.mf.map(SkyPatches::new);
     let suns = match &opts.suns {
@@ -219,7 +225,8 @@ pub fn main(opts: &Options, view: Option<View>, command: &[String]) -> Result<()
     let stdout = std::io::stdout();
     let seekable = crate::cli::stdout_is_file();
     let reweight = reweight.as_ref();
-    pool.install(|| match view {
+    let t_trace = std::time::Instant::now();
+    let result = pool.install(|| match view {
         Some(v) => picture(
             opts,
             &job,
@@ -244,7 +251,19 @@ pub fn main(opts: &Options, view: Option<View>, command: &[String]) -> Result<()
                 reweight,
             )
         }
-    })
+    });
+    if opts.stats {
+        let trace = t_trace.elapsed().as_secs_f64();
+        let rays = estimator.rays();
+        eprintln!(
+            "rdc: load {:.3} s, compile {:.3} s (BVH build {:.3} s; {nsurfaces} surfaces, {nprims} primitives), trace {trace:.3} s, {rays} path rays, {:.3e} rays/s",
+            t_loaded.as_secs_f64(),
+            (t_compiled - t_loaded).as_secs_f64(),
+            bvh_build.as_secs_f64(),
+            rays as f64 / trace.max(1e-9)
+        );
+    }
+    result
 }
 
 fn check_combinations(opts: &Options, picture: bool, channels: &Channels) -> Result<()> {

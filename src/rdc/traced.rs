@@ -20,10 +20,12 @@ use super::tracer::{
 use crate::geometry::Vec3;
 use crate::material::Color;
 use crate::material::sampling::cosine_hemisphere;
+use crate::radiometry::MAX_SAMPLES;
 use crate::trace::integrator::SENSOR_OFFSET;
 use crate::trace::reweight::{Events, Tracking};
 use crate::trace::{Renderable, TraceParams};
 use std::f64::consts::PI;
+use std::sync::atomic::{AtomicU64, Ordering};
 
 pub struct Traced {
     scene: Renderable,
@@ -33,6 +35,8 @@ pub struct Traced {
     w0: f64,
     /// Materials whose re-weighting terms are recorded (`--reweight`).
     track: Option<Tracking>,
+    /// Rays cast by paths so far (closest-hit queries, `--stats`).
+    rays: AtomicU64,
 }
 
 impl Traced {
@@ -55,7 +59,14 @@ impl Traced {
             },
             w0: 1.0 / ad.max(1) as f64,
             track: None,
+            rays: AtomicU64::new(0),
         }
+    }
+
+    /// Rays cast by paths so far (closest-hit and shadow queries of path samples; the
+    /// shadow rays of `--suns` and of the direct sun term are not counted).
+    pub fn rays(&self) -> u64 {
+        self.rays.load(Ordering::Relaxed)
     }
 
     /// Record re-weighting terms for the materials of `track` (coefficient modes; the
@@ -66,22 +77,30 @@ impl Traced {
     }
 }
 
-fn add_color(tally: &mut Tally, col: usize, c: &Color, scale: f64, buf: &mut Vec<f64>) {
-    buf.clear();
-    buf.extend(c.as_slice().iter().map(|&v| v as f64 * scale));
-    tally.add(col, buf);
+/// A stack buffer for one contribution (no allocation per sample).
+type Buf = [f64; MAX_SAMPLES];
+
+/// `c x scale` as f64 in `buf`, returned as the used slice.
+fn scaled<'a>(c: &Color, scale: f64, buf: &'a mut Buf) -> &'a [f64] {
+    let n = c.ncomp();
+    for (b, &v) in buf.iter_mut().zip(c.as_slice()) {
+        *b = v as f64 * scale;
+    }
+    &buf[..n]
+}
+
+fn add_color(tally: &mut Tally, col: usize, c: &Color, scale: f64, buf: &mut Buf) {
+    tally.add(col, scaled(c, scale, buf));
 }
 
 /// [`add_color`] with the contribution's tracked events (re-weighting runs).
-fn add_term(tally: &mut Tally, col: usize, c: &Color, scale: f64, ev: Events, buf: &mut Vec<f64>) {
-    buf.clear();
-    buf.extend(c.as_slice().iter().map(|&v| v as f64 * scale));
-    tally.add_term(col, ev.signature(), buf);
+fn add_term(tally: &mut Tally, col: usize, c: &Color, scale: f64, ev: Events, buf: &mut Buf) {
+    tally.add_term(col, ev.signature(), scaled(c, scale, buf));
 }
 
 impl Estimator for Traced {
     fn sample(&self, q: &Query, mode: &Mode, stratum: Stratum, rng: &mut Rng, tally: &mut Tally) {
-        let mut buf = Vec::with_capacity(tally.ncomp());
+        let mut buf: Buf = [0.0; MAX_SAMPLES];
         let n = Vec3::from(q.dir);
         match (q.quantity, mode) {
             (
@@ -112,7 +131,7 @@ impl Estimator for Traced {
                 };
                 // Escapes go straight into the tally (no per-sample allocation).
                 let track = self.track.as_ref();
-                self.scene.path_sample(
+                let (_, rays) = self.scene.path_sample(
                     org,
                     dir,
                     from_sensor,
@@ -124,14 +143,13 @@ impl Estimator for Traced {
                     &mut |e, beta, events| {
                         let bin = patches.bin_of(e.to_array());
                         if track.is_some() {
-                            buf.clear();
-                            buf.extend(beta.as_slice().iter().map(|&v| v as f64 * scale));
-                            tally.add_term(bin, events.signature(), &buf);
+                            add_term(tally, bin, &beta, scale, *events, &mut buf);
                         } else {
                             add_color(tally, bin, &beta, scale, &mut buf);
                         }
                     },
                 );
+                self.rays.fetch_add(rays, Ordering::Relaxed);
             }
             (Quantity::Irradiance, Mode::Suns { suns }) => {
                 let org = Vec3::from(q.org) + n.normalize() * SENSOR_OFFSET;
@@ -173,7 +191,7 @@ impl Estimator for Traced {
                         let (u, v) = stratum.unit_square(rng);
                         Vec3::from(cosine_hemisphere(n.normalize().to_array(), u, v))
                     };
-                    let (l, _) = self.scene.path_sample(
+                    let (l, rays) = self.scene.path_sample(
                         org,
                         d,
                         true,
@@ -184,12 +202,13 @@ impl Estimator for Traced {
                         None,
                         &mut |_, _, _| {},
                     );
+                    self.rays.fetch_add(rays, Ordering::Relaxed);
                     e += l.scale(PI);
                 }
                 add_color(tally, 0, &e, 1.0, &mut buf);
             }
             (Quantity::Radiance, Mode::Values) => {
-                let (l, _) = self.scene.path_sample(
+                let (l, rays) = self.scene.path_sample(
                     Vec3::from(q.org),
                     n,
                     false,
@@ -200,6 +219,7 @@ impl Estimator for Traced {
                     None,
                     &mut |_, _, _| {},
                 );
+                self.rays.fetch_add(rays, Ordering::Relaxed);
                 add_color(tally, 0, &l, 1.0, &mut buf);
             }
         }

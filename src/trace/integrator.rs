@@ -173,6 +173,42 @@ fn strat_uv(k: usize, n: usize, m: usize, rng: &mut impl Rng) -> (f64, f64) {
     }
 }
 
+/// [`Material::sample`] with a shortcut for the commonest material of daylight scenes, a
+/// Lambertian `plastic`/`metal` (specularity 0): there `normal.c`'s split gives
+/// `rspec = 0`, `rdiff = 1`, one lobe chosen with probability 1, so the sample is a
+/// cosine-weighted direction about the normal turned toward the viewer with weight `rho`.
+/// The numbers are bit for bit those of [`crate::material::ward::Ward::sample`] (same
+/// uniforms, same direction formula, `rho x 1 / 1`), without building its lobe table
+/// (a quarter of the run time in the furnished office).
+#[inline]
+fn sample_material(
+    m: &Material,
+    wo: Vec3,
+    s: &Surface,
+    u1: f64,
+    u2: f64,
+    u3: f64,
+) -> Option<crate::material::Sample> {
+    if let Material::Ward(w) = m {
+        if w.spec == 0.0 && w.trans == 0.0 {
+            if w.color.mean() <= 0.0 {
+                return None;
+            }
+            let n = if wo.dot(Vec3::from(s.normal)) < 0.0 {
+                -Vec3::from(s.normal)
+            } else {
+                Vec3::from(s.normal)
+            };
+            return Some(crate::material::Sample {
+                wi: cosine_hemisphere(n.to_array(), u2, u3),
+                weight: w.color,
+                kind: SampleKind::DiffuseReflect,
+            });
+        }
+    }
+    m.sample(wo.to_array(), s, u1, u2, u3)
+}
+
 impl Renderable {
     /// Closest hit (counting the ray).
     #[inline]
@@ -301,7 +337,7 @@ impl Renderable {
                 return out;
             }
             let (u1, u2, u3) = (rng.random(), rng.random(), rng.random());
-            let Some(smp) = m.sample(wo.to_array(), &s, u1, u2, u3) else {
+            let Some(smp) = sample_material(m, wo, &s, u1, u2, u3) else {
                 return out;
             };
             let diffuse = matches!(
@@ -609,4 +645,59 @@ impl Renderable {
 pub fn sensor_frame(normal: Vec3) -> (Vec3, Vec3) {
     let (u, v) = frame(normal.normalize().to_array());
     (Vec3::from(u), Vec3::from(v))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::material::ward::{Ward, WardKind};
+    use crate::material::{Color, ShadingOptions};
+
+    #[test]
+    fn lambertian_shortcut_is_ward_sample_bit_for_bit() {
+        let mut rng = rand_pcg::Pcg64::new(7, 9);
+        for kind in [WardKind::Plastic, WardKind::Metal] {
+            let w = Ward::new(
+                kind,
+                Color::from_slice(&[0.55, 0.42, 0.3]),
+                0.0,
+                0.1,
+                0.0,
+                0.0,
+                ShadingOptions::rcontrib(),
+            );
+            let m = Material::Ward(w.clone());
+            for _ in 0..1000 {
+                let r = |rng: &mut rand_pcg::Pcg64| -> f64 { rng.random::<f64>() * 2.0 - 1.0 };
+                let n = Vec3::new(r(&mut rng), r(&mut rng), r(&mut rng)).normalize();
+                let wo = Vec3::new(r(&mut rng), r(&mut rng), r(&mut rng)).normalize();
+                let s = Surface {
+                    normal: n.to_array(),
+                    flat: true,
+                };
+                let (u1, u2, u3) = (rng.random(), rng.random(), rng.random());
+                assert_eq!(
+                    sample_material(&m, wo, &s, u1, u2, u3),
+                    w.sample(wo.to_array(), &s, u1, u2, u3)
+                );
+            }
+        }
+        // Black: no sample either way.
+        let b = Ward::new(
+            WardKind::Plastic,
+            Color::black(3),
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            ShadingOptions::rcontrib(),
+        );
+        let s = Surface::flat([0.0, 0.0, 1.0]);
+        let wo = Vec3::new(0.0, 0.0, 1.0);
+        assert_eq!(
+            sample_material(&Material::Ward(b.clone()), wo, &s, 0.5, 0.5, 0.5),
+            None
+        );
+        assert_eq!(b.sample(wo.to_array(), &s, 0.5, 0.5, 0.5), None);
+    }
 }
