@@ -25,7 +25,9 @@
 //!   rays), but its diffuse lobe returns the ambient value `-av` (default black). The
 //!   material sampler picks one lobe per vertex in proportion to its coefficient, so
 //!   stopping (or adding `-av`) when the diffuse lobe is picked past the limit is unbiased
-//!   for that rule.
+//!   for that rule. `glass` is the exception: like Radiance's `glass.c` the path branches
+//!   into both the transmitted and the reflected ray (no random choice, so no binomial
+//!   noise on what is seen through a window).
 //! - `-lw`: Radiance gives each ray a weight relative to the primary ray (an ambient sample
 //!   of a sensor with `-ad N` has weight `1/N` times the path coefficient) and plays Russian
 //!   roulette when it falls below `-lw` (`raytrace.c:rayorigin`: continue with probability
@@ -151,7 +153,16 @@ enum Mode {
     Values,
 }
 
+/// A surface vertex of a path.
+struct Vertex<'a> {
+    hit: &'a Hit,
+    material: &'a Material,
+    /// Index of `material` in the renderable (for tracking).
+    index: u32,
+}
+
 /// Where one path is.
+#[derive(Clone, Copy)]
 struct PathState {
     beta: Color,
     sees_sources: bool,
@@ -207,6 +218,34 @@ fn sample_material(
         }
     }
     m.sample(wo.to_array(), s, u1, u2, u3)
+}
+
+/// The two rays of a `glass` pane (`glass.c`): transmitted straight on with weight `T`,
+/// reflected in the mirror direction with weight `R` (see [`crate::material::glass`]);
+/// `None` for a black one.
+fn glass_branches(
+    g: &crate::material::glass::Glass,
+    wo: Vec3,
+    s: &Surface,
+) -> (
+    Option<crate::material::Sample>,
+    Option<crate::material::Sample>,
+) {
+    let n0 = Vec3::from(s.normal);
+    let d = wo.dot(n0);
+    let (n, pdot) = if d < 0.0 { (-n0, -d) } else { (n0, d) };
+    let (t, r) = g.coefficients(pdot);
+    let t = (t.max() > 0.0).then(|| crate::material::Sample {
+        wi: (-wo).to_array(),
+        weight: t,
+        kind: SampleKind::PureTransmit,
+    });
+    let r = (r.max() > 0.0).then(|| crate::material::Sample {
+        wi: (n * (2.0 * pdot) - wo).normalize().to_array(),
+        weight: r,
+        kind: SampleKind::PureReflect,
+    });
+    (t, r)
 }
 
 impl Renderable {
@@ -336,46 +375,101 @@ impl Renderable {
             if st.depth >= params.max_depth {
                 return out;
             }
+            let v = Vertex {
+                hit: &h,
+                material: m,
+                index: info.material,
+            };
+            if let Material::Glass(g) = m {
+                // Both of the pane's rays, as Radiance's glass.c traces them: the reflected
+                // one as a branch, the transmitted one continuing this loop. Choosing one
+                // at random (probability ~ T : R) would add binomial noise to every
+                // coefficient seen through a window.
+                let (t, r) = glass_branches(g, wo, &s);
+                if let Some(r) = r {
+                    if let Some((ray_r, st_r)) =
+                        self.advance(&v, st, r, w0, params, mode, rng, track, &mut out)
+                    {
+                        out += self.walk(ray_r, st_r, w0, params, mode, rng, rays, track, escape);
+                    }
+                }
+                let Some(t) = t else {
+                    return out;
+                };
+                match self.advance(&v, st, t, w0, params, mode, rng, track, &mut out) {
+                    Some((r, next)) => {
+                        ray = r;
+                        st = next;
+                    }
+                    None => return out,
+                }
+                continue;
+            }
             let (u1, u2, u3) = (rng.random(), rng.random(), rng.random());
             let Some(smp) = sample_material(m, wo, &s, u1, u2, u3) else {
                 return out;
             };
-            let diffuse = matches!(
-                smp.kind,
-                SampleKind::DiffuseReflect | SampleKind::DiffuseTransmit
-            );
-            if diffuse {
-                if st.diffuse >= params.ab {
-                    if let (Mode::Values, Some(av)) = (mode, params.ambient_value) {
-                        out += st.beta * smp.weight * av;
-                    }
-                    return out;
+            match self.advance(&v, st, smp, w0, params, mode, rng, track, &mut out) {
+                Some((r, next)) => {
+                    ray = r;
+                    st = next;
                 }
-                st.diffuse += 1;
+                None => return out,
             }
-            if !smp.kind.sees_sources() {
-                st.sees_sources = false;
-            }
-            if let Some(tr) = track {
-                if scales_with_colour(m, smp.kind) {
-                    st.events.push(tr.of(info.material));
-                }
-            }
-            st.beta = st.beta * smp.weight;
-            let w = w0 * st.beta.mean();
-            if w.is_nan() || w <= 0.0 {
-                return out;
-            }
-            if w < params.lw {
-                let p = w / params.lw;
-                if rng.random::<f64>() >= p {
-                    return out;
-                }
-                st.beta = st.beta.scale(1.0 / p);
-            }
-            st.depth += 1;
-            ray = h.spawn(Vec3::from(smp.wi));
         }
+    }
+
+    /// Continue from vertex `v` along the sampled `smp` under the path rules (`-ab`, `-av`,
+    /// source visibility, tracked events, `-lw` roulette). `None` ends the path (an `-av`
+    /// contribution goes to `out` first).
+    #[allow(clippy::too_many_arguments)]
+    fn advance(
+        &self,
+        v: &Vertex,
+        mut st: PathState,
+        smp: crate::material::Sample,
+        w0: f64,
+        params: &TraceParams,
+        mode: Mode,
+        rng: &mut impl Rng,
+        track: Option<&Tracking>,
+        out: &mut Color,
+    ) -> Option<(Ray, PathState)> {
+        let diffuse = matches!(
+            smp.kind,
+            SampleKind::DiffuseReflect | SampleKind::DiffuseTransmit
+        );
+        if diffuse {
+            if st.diffuse >= params.ab {
+                if let (Mode::Values, Some(av)) = (mode, params.ambient_value) {
+                    *out += st.beta * smp.weight * av;
+                }
+                return None;
+            }
+            st.diffuse += 1;
+        }
+        if !smp.kind.sees_sources() {
+            st.sees_sources = false;
+        }
+        if let Some(tr) = track {
+            if scales_with_colour(v.material, smp.kind) {
+                st.events.push(tr.of(v.index));
+            }
+        }
+        st.beta = st.beta * smp.weight;
+        let w = w0 * st.beta.mean();
+        if w.is_nan() || w <= 0.0 {
+            return None;
+        }
+        if w < params.lw {
+            let p = w / params.lw;
+            if rng.random::<f64>() >= p {
+                return None;
+            }
+            st.beta = st.beta.scale(1.0 / p);
+        }
+        st.depth += 1;
+        Some((v.hit.spawn(Vec3::from(smp.wi)), st))
     }
 
     /// Daylight coefficients of one sensor, rcontrib `-I+ -V-` style (see the module
