@@ -304,3 +304,43 @@ fn bad_reweight_requests_are_usage_errors() {
         assert!(!Path::new(rw).exists(), "half-written {rw}");
     }
 }
+
+#[test]
+fn sun_coefficients_through_tracked_glass_scale_linearly() {
+    // A pane over an upward sensor: every sun coefficient crosses it once, so the factor of
+    // the glass multiplies every column; the unscaled file reproduces the run.
+    let dir = tmpdir();
+    let scene = write(
+        dir.path(),
+        "pane.rad",
+        "void glass pane 0 0 3 0.9 0.8 0.7\n\
+         pane polygon p 0 0 12 -100 -100 1 100 -100 1 100 100 1 -100 100 1\n",
+    );
+    let rw = dir.path().join("s.rw");
+    let out = run_ok(
+        ours("rdc").args([
+            "-I",
+            "--suns",
+            "1",
+            "-ad",
+            "4",
+            "-fad",
+            "--reweight",
+            rw.to_str().unwrap(),
+            &scene,
+        ]),
+        b"0 0 0 0 0 1\n",
+    );
+    let base = matrix(&out).data;
+    assert!(base.iter().sum::<f64>() > 0.0);
+    let r = Reweighting::read(rw.to_str().unwrap()).unwrap();
+    assert_eq!(r.materials, ["pane"]);
+    for s in [1.0, 0.5] {
+        for (x, y) in r.apply(&[s]).unwrap().iter().zip(&base) {
+            assert!(
+                (x - s * y).abs() <= 1e-12 * y.abs().max(1e-12),
+                "{x} vs {s} x {y}"
+            );
+        }
+    }
+}
