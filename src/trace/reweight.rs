@@ -46,6 +46,11 @@
 //! Sun coefficients (`--suns`) record the glass/`trans` panes a sun ray crosses (shadow
 //! transmission `T`, `rho tspec`), with the same rules.
 //!
+//! ## Cost
+//! Measured on the furnished office fixture (165 sensors, MF 1, `-ab 5 -ad 10000`, all 9
+//! materials tracked, 2 threads): +15 % CPU time, peak memory 5 MB -> 12 MB, a 3.8 MB file
+//! (about 87 000 terms, 530 per sensor); the coefficient output is byte-identical.
+//!
 //! ## File format (`rdc --reweight FILE`)
 //! One line of JSON, then binary rows, all little-endian:
 //!
