@@ -26,13 +26,14 @@ use std::path::Path;
 use std::process::Command;
 
 /// Measured at these settings: see the module documentation.
-/// Seeds 0..=4 at these settings gave mean |ΔDGP| 0.0035 to 0.0057, max |ΔDGP| 0.0096 to
-/// 0.0150, max |ΔE_v| 2.1 % to 3.0 % and the same class in 13 of 14 hours (3/20 12:30,
-/// DGP 0.398 for evalglare sits on the 0.40 class limit); the bounds are the worst seed
-/// rounded up.
-const MEAN_DDGP_SUN_OUT: f64 = 0.006;
-const MAX_DDGP_SUN_OUT: f64 = 0.016;
-const MAX_REL_EV_SUN_OUT: f64 = 0.035;
+/// Seeds 0..=4 at these settings (path tracer with glass branching into its transmitted and
+/// reflected rays, as Radiance's glass.c) gave mean |ΔDGP| 0.0049 to 0.0064, max |ΔDGP|
+/// 0.0092 to 0.0186, max |ΔE_v| 2.3 % to 3.7 % and the same class in 13 of 14 hours (3/20
+/// 12:30, DGP 0.398 for evalglare sits on the 0.40 class limit); the bounds are the worst
+/// seed rounded up.
+const MEAN_DDGP_SUN_OUT: f64 = 0.007;
+const MAX_DDGP_SUN_OUT: f64 = 0.019;
+const MAX_REL_EV_SUN_OUT: f64 = 0.04;
 const MIN_CLASS_AGREEMENT: usize = 13;
 
 const VIEW: [&str; 16] = [

@@ -6,8 +6,9 @@
 //! | module | concept |
 //! |---|---|
 //! | [`options`] | the option set, Radiance's letters and meanings, rcontrib's defaults, presets |
-//! | [`intake`] | scene loading: sky and ground glows, `skybright.cal`/`perezlum.cal` skies, suns, surfaces |
-//! | [`tracer`] | the seam: [`tracer::Estimator`], [`tracer::Tally`], [`tracer::Mode`]; the open-sky reference estimator |
+//! | [`intake`] | scene loading and the primitive types rdc accepts (the sky is evaluated by `crate::trace::sources`) |
+//! | [`tracer`] | the seam: [`tracer::Estimator`], [`tracer::Tally`], [`tracer::Mode`], seeding and stratification |
+//! | [`traced`] | the estimator: the path tracer of `crate::trace` behind the seam (and `--reweight` records) |
 //! | [`run`] | the parallel, deterministic, streaming driver (sensors and pictures) |
 //! | [`output`] | headers (rcontrib's order), ascii/float/double/RGBE rows, pictures, `--se-out` |
 //!

@@ -7,14 +7,15 @@
 //! the long forms clap knows (`--ab 5`, `--irradiance`, `-h`, `--oi`) before parsing, and the
 //! view options (`-vta -vp ...`) are taken out beforehand with `View::extract_args`.
 //!
-//! | option | meaning | default | Radiance | honoured by the open-sky estimator |
+//! | option | meaning | default | Radiance | what rdc does with it |
 //! |---|---|---|---|---|
-//! | `-ab N` | diffuse bounces | 1 | rcontrib `-ab` | 0 vs >0 (glow skies need one bounce) |
-//! | `-ad N` | samples per record and batch | 350 | rcontrib `-ad` | yes |
-//! | `-lw W` | path weight limit | 2e-3 | rcontrib `-lw` | no effect without surfaces |
-//! | `-lr N` | reflection limit | -10 | rcontrib `-lr` | no effect without surfaces |
-//! | `-dj F` | source jitter | 0.9 | rcontrib `-dj` | no (suns are exact) |
-//! | `-st F` / `-ss F` | specular threshold / sampling | 0.02 / 1 | rcontrib | no surfaces |
+//! | `-ab N` | diffuse bounces | 1 | rcontrib `-ab` | path tracer: at most N diffuse bounces, the sensor's hemisphere sample counting as the first (0: glow skies invisible to `-I` sensors, as in Radiance) |
+//! | `-ad N` | samples per record and batch | 350 | rcontrib `-ad` | N paths per record (stratified cosine directions for `-I`, jittered pixel positions for pictures) |
+//! | `-lw W` | path weight limit | 2e-3 | rcontrib `-lw` | Russian roulette below W, path weight = Radiance's ray weight (1/`-ad` x throughput) |
+//! | `-lr N` | reflection limit | -10 | rcontrib `-lr` | at most `|N|` scattering events per path (0: 10); roulette by `-lw` always (Radiance's N <= 0 rule) |
+//! | `-dj F` | source jitter | 0.9 | rcontrib `-dj` | shadow rays aim at the source centre; F widens the sun's highlight on flat surfaces by `(1-F) omega/4pi` as Radiance's shading does |
+//! | `-st F` | specular threshold | 0.02 | rcontrib `-st` | rough specular lobes at or below F are folded into the diffuse sample (`normal.c`) |
+//! | `-ss F` | specular sampling | 1 | rcontrib `-ss` | accepted and ignored: one sampled direction per specular vertex, Radiance's `-ss 1` weighting |
 //! | `--preset P` | `draft`: -ab 3 -ad 1024 -lw 1e-3; `standard`: -ab 5 -ad 4096 -lw 1e-4; `converged`: -ab 7 -ad 16384 -lw 1e-5 | | | |
 //!
 //! Preset figures: BENCHMARKING.md measured `-ab 3 -ad 1000` at 5.8 % median run-to-run
@@ -61,8 +62,9 @@ Examples:
 #[derive(Parser, Debug, Clone)]
 #[command(name = "rdc", disable_help_flag = true, after_help = EXAMPLES)]
 pub struct Options {
-    /// Ambient bounces (rcontrib -ab; default 1). 0 makes glow skies invisible to -I
-    /// sensors, as in Radiance.
+    /// Ambient bounces (rcontrib -ab; default 1): at most N diffuse bounces per path, the
+    /// -I sensor's hemisphere sample counting as the first; specular bounces do not count.
+    /// 0 makes glow skies invisible to -I sensors, as in Radiance.
     #[arg(long = "ab", value_name = "N")]
     pub ab: Option<u32>,
 
@@ -71,29 +73,39 @@ pub struct Options {
     #[arg(long = "ad", value_name = "N")]
     pub ad: Option<usize>,
 
-    /// Path weight limit for Russian roulette (rcontrib -lw; default 2e-3). Accepted; the
-    /// open-sky estimator has no paths to end.
+    /// Path weight limit (rcontrib -lw; default 2e-3): a path whose weight (1/-ad x
+    /// throughput for -I samples, as Radiance weighs ambient rays) falls below W continues
+    /// with probability weight/W (Russian roulette, unbiased: only the noise depends on W).
     #[arg(long = "lw", value_name = "W")]
     pub lw: Option<f64>,
 
-    /// Reflection limit (rcontrib -lr; default -10: roulette, at most 10). Accepted.
+    /// Reflection limit (rcontrib -lr; default -10): at most |N| reflections and
+    /// transmissions per path (0: 10, against endless mirror pairs). Roulette by -lw is
+    /// always played (Radiance's N <= 0 behaviour; with N > 0 Radiance instead drops rays
+    /// below -lw without compensation).
     #[arg(long = "lr", value_name = "N", allow_hyphen_values = true)]
     pub lr: Option<i32>,
 
-    /// Source jitter (rcontrib -dj; default 0.9). Accepted; suns are integrated exactly.
+    /// Source jitter (rcontrib -dj; default 0.9). Shadow rays aim at the source centre (no
+    /// jitter); F only widens the sun's specular highlight on flat surfaces by (1-F) x
+    /// omega/4pi, as Radiance's shading does. No effect on -m/--suns coefficients.
     #[arg(long = "dj", value_name = "F")]
     pub dj: Option<f64>,
 
-    /// Specular threshold (rcontrib -st; default 0.02). Accepted.
+    /// Specular threshold (rcontrib -st; default 0.02): rough specular lobes whose
+    /// coefficient is at or below F are folded into the diffuse sample, as Radiance's
+    /// normal.c does.
     #[arg(long = "st", value_name = "F")]
     pub st: Option<f64>,
 
-    /// Specular sampling (rcontrib -ss; default 1). Accepted.
+    /// Specular sampling (rcontrib -ss; default 1). Accepted and ignored: every specular
+    /// vertex takes one sampled direction weighted as Radiance's -ss 1.
     #[arg(long = "ss", value_name = "F")]
     pub ss: Option<f64>,
 
     /// Named sample settings: draft (-ab 3 -ad 1024 -lw 1e-3), standard (-ab 5 -ad 4096
-    /// -lw 1e-4), converged (-ab 7 -ad 16384 -lw 1e-5). Explicit -ab/-ad/-lw win.
+    /// -lw 1e-4), converged (-ab 7 -ad 16384 -lw 1e-5). Explicit -ab/-ad/-lw win (no
+    /// Radiance counterpart).
     #[arg(long = "preset", value_name = "draft|standard|converged")]
     pub preset: Option<Preset>,
 
@@ -105,8 +117,11 @@ pub struct Options {
 
     /// Sky coefficients on the Reinhart sky with subdivision MF (1 = Tregenza): columns =
     /// 144 MF^2 + 2 patches, ground first, in gendaymtx -m MF row order (rcontrib -e MF:N -f
-    /// reinhart.cal -b rbin -bn Nrbins on a 360-degree glow source). Sky sources in the
-    /// scene are then ignored: every ray that leaves the scene is binned by direction.
+    /// reinhart.cal -b rbin -bn Nrbins on a 360-degree glow source). The sky's brightness
+    /// is ignored: every path that leaves the scene into a distant glow of the scene (or,
+    /// when the scene has no source at all, every path that leaves it) is binned by its
+    /// direction; paths that leave toward a `light` source (a sun) count nothing, as
+    /// rcontrib does for untracked modifiers.
     #[arg(short = 'm', value_name = "MF")]
     pub mf: Option<usize>,
 
@@ -165,25 +180,50 @@ pub struct Options {
 
     /// Stop sampling a record once its relative standard error (RMS of the column SEs over
     /// the mean column value) is below this target; samples come in batches of -ad, at
-    /// most --max-samples.
+    /// most --max-samples (no Radiance counterpart: Radiance only has a fixed -ad).
     #[arg(long = "target-se", value_name = "REL")]
     pub target_se: Option<f64>,
 
-    /// Upper limit on samples per record with --target-se (default 100 x -ad).
+    /// Upper limit on samples per record with --target-se (default 100 x -ad; no Radiance
+    /// counterpart).
     #[arg(long = "max-samples", value_name = "N")]
     pub max_samples: Option<usize>,
 
     /// Write each record's relative standard error and sample count to FILE (an ascii
-    /// matrix, NCOLS=2, NCOMP=1).
+    /// matrix, NCOLS=2, NCOMP=1; no Radiance counterpart).
     #[arg(long = "se-out", value_name = "FILE")]
     pub se_out: Option<String>,
 
-    /// Do not run !commands in scene files (error instead).
+    /// Write path re-weighting records to FILE (no Radiance counterpart): per record and
+    /// column the contribution split by which tracked materials the paths scattered at, so
+    /// that coefficients for scaled material reflectances/transmittances follow without
+    /// re-tracing (rdaylight::trace::reweight documents the format and what is exact).
+    /// Needs -m or --suns. The normal output is unchanged.
+    #[arg(long = "reweight", value_name = "FILE")]
+    pub reweight: Option<String>,
+
+    /// Materials tracked by --reweight, comma-separated names (default: every plastic,
+    /// metal, trans, glass and mirror on a surface); others count as fixed.
+    #[arg(
+        long = "reweight-materials",
+        value_name = "NAME,...",
+        value_delimiter = ','
+    )]
+    pub reweight_materials: Option<Vec<String>>,
+
+    /// Print timings (load, compile and BVH build, trace), the rays cast by paths and rays
+    /// per second to standard error at the end (no Radiance counterpart; cf. rtrace's
+    /// report).
+    #[arg(long = "stats")]
+    pub stats: bool,
+
+    /// Do not run !commands in scene files (error instead; Radiance always runs them).
     #[arg(long = "no-exec")]
     pub no_exec: bool,
 
     /// Illuminance output for -I: one value per column, 179 x (0.265 R + 0.670 G + 0.065 B)
-    /// lux (rmtxop -c 47.4 119.9 11.6).
+    /// lux, what rmtxop -c 47.4 119.9 11.6 or rcalc after rtrace -I gives. Not rtrace's
+    /// -oi (intersection points), which rdc does not offer.
     #[arg(long = "oi")]
     pub oi: bool,
 

@@ -13,7 +13,7 @@
 //! ([`Tally::relative_se`]) is at most the target or `--max-samples` is reached. The value
 //! written is the mean over all samples taken.
 
-use super::intake::{self, Sky};
+use super::intake;
 use super::options::{IRRADIANCE_OFFSET, Options, RPICT_RES, Sampling};
 use super::output::{self, Sink};
 use super::traced::Traced;
@@ -30,6 +30,7 @@ use crate::radiometry::{Channels, RGB_PHOTOPIC, RGB_PHOTOPIC_ROUNDED, WHITE_EFFI
 use crate::scene::LoadOptions;
 use crate::sky::SkyPatches;
 use crate::trace::Renderable;
+use crate::trace::reweight::{RowWriter, Signature};
 use rand::Rng as _;
 use rayon::prelude::*;
 use std::io::{BufRead, Write};
@@ -49,6 +50,8 @@ pub struct RecordResult {
     /// Relative standard error ([`Tally::relative_se`]).
     pub rel_se: f64,
     pub samples: u64,
+    /// Re-weighting terms `(column, signature, ncomp means)` when the job keeps them.
+    pub terms: Vec<(u32, Signature, Vec<f64>)>,
 }
 
 /// What every record shares.
@@ -62,6 +65,8 @@ pub struct Job<'a> {
     pub target_se: Option<f64>,
     pub max_samples: usize,
     pub seed: u64,
+    /// Keep re-weighting terms per record (`--reweight`).
+    pub terms: bool,
 }
 
 impl Job<'_> {
@@ -102,6 +107,7 @@ impl Job<'_> {
             values,
             rel_se: tally.relative_se(),
             samples: tally.samples(),
+            terms: tally.terms(),
         }
     }
 
@@ -118,7 +124,10 @@ impl Job<'_> {
             .enumerate()
             .with_min_len(4)
             .map_init(
-                || Tally::new(ncols, self.ncomp, &self.weights),
+                || {
+                    let t = Tally::new(ncols, self.ncomp, &self.weights);
+                    if self.terms { t.with_terms() } else { t }
+                },
                 |tally, (i, item)| {
                     self.compute(first_index + i as u64, &|rng| query(item, rng), tally)
                 },
@@ -139,7 +148,6 @@ impl Job<'_> {
 pub struct Prepared {
     pub channels: Channels,
     sampling: Sampling,
-    intake: intake::Intake,
     estimator: Traced,
     patches: Option<SkyPatches>,
     direct: bool,
@@ -148,19 +156,34 @@ pub struct Prepared {
     max_samples: Option<usize>,
     seed: u64,
     threads: Option<usize>,
+    /// Where `--reweight` terms go (the estimator then tracks materials).
+    reweight: Option<ReweightOut>,
+    /// `--stats` figures: load and compile times, surfaces, primitives, BVH build.
+    load_time: std::time::Duration,
+    compile_time: std::time::Duration,
+    nsurfaces: usize,
+    nprims: usize,
+    bvh_build: std::time::Duration,
 }
 
 impl Prepared {
     /// Load and compile the scene of `opts` (its `scene` files) with its sampling settings.
     /// Errors (unsupported primitives, bad options) come with file:line before any input.
+    /// `command` goes into the `--reweight` file's header.
     pub fn new(opts: &Options, picture: bool) -> Result<Prepared> {
+        Prepared::with_command(opts, picture, &[])
+    }
+
+    fn with_command(opts: &Options, picture: bool, command: &[String]) -> Result<Prepared> {
         let sampling = opts.sampling()?;
         let channels = opts.channels()?;
         check_combinations(opts, picture, &channels)?;
         // Scene first: its errors come before anything is read or written.
+        let t_start = std::time::Instant::now();
         let mut lopts = LoadOptions::from_env();
         lopts.allow_exec &= !opts.no_exec;
-        let intake = intake::load(&opts.scene, &lopts)?;
+        let scene = intake::load(&opts.scene, &lopts)?;
+        let load_time = t_start.elapsed();
         // Compile the surfaces (materials through modifier chains, one BVH) before any
         // input is read: unsupported primitives stop here with file:line.
         let shading = ShadingOptions {
@@ -168,22 +191,37 @@ impl Prepared {
             st: sampling.st,
             ..ShadingOptions::rcontrib()
         };
-        let renderable = Renderable::compile(&intake.scene, &channels, &shading)?;
+        let renderable = Renderable::compile(&scene, &channels, &shading)?;
+        let compile_time = t_start.elapsed() - load_time;
+        let nsurfaces = renderable.surface_count();
+        let nprims = renderable.bvh().primitive_count();
+        let bvh_build = renderable.bvh().build_time();
         let patches = opts.mf.map(SkyPatches::new);
         let suns = match &opts.suns {
             Some(s) => Some(sun_discs(s, opts.sun_angle)?),
             None => None,
         };
         if patches.is_none() && suns.is_none() {
-            check_sky(&intake.sky, &opts.scene)?;
-            intake.sky.check_channels(channels.ncomp)?;
+            check_sky(&renderable, &opts.scene)?;
         }
         let params = trace_params(&sampling);
-        let estimator = Traced::new(renderable, &params, sampling.ad);
+        let tracking = match &opts.reweight {
+            Some(_) => Some(renderable.tracking(&scene, opts.reweight_materials.as_deref())?),
+            None => None,
+        };
+        let mut estimator = Traced::new(renderable, &params, sampling.ad);
+        let mut reweight = None;
+        if let (Some(path), Some(t)) = (&opts.reweight, tracking) {
+            reweight = Some(ReweightOut {
+                path: path.clone(),
+                materials: t.names.clone(),
+                command: command.join(" "),
+            });
+            estimator = estimator.with_tracking(t);
+        }
         Ok(Prepared {
             channels,
             sampling,
-            intake,
             estimator,
             patches,
             direct: opts.direct,
@@ -192,6 +230,12 @@ impl Prepared {
             max_samples: opts.max_samples,
             seed: opts.seed,
             threads: opts.threads,
+            reweight,
+            load_time,
+            compile_time,
+            nsurfaces,
+            nprims,
+            bvh_build,
         })
     }
 
@@ -206,9 +250,7 @@ impl Prepared {
         } else if let Some(s) = &self.suns {
             Mode::Suns { suns: s }
         } else {
-            Mode::Values {
-                sky: &self.intake.sky,
-            }
+            Mode::Values
         };
         let weights = if self.channels.ncomp == 3 {
             RGB_PHOTOPIC.to_vec()
@@ -224,6 +266,7 @@ impl Prepared {
             target_se: self.target_se,
             max_samples: self.max_samples.unwrap_or(100 * self.sampling.ad),
             seed: self.seed,
+            terms: self.reweight.is_some(),
         }
     }
 
@@ -274,15 +317,26 @@ impl Prepared {
 /// header; `view` is set when view options were given (picture mode).
 pub fn main(opts: &Options, view: Option<View>, command: &[String]) -> Result<()> {
     let (ray_format, out_format) = opts.formats()?;
-    let prepared = Prepared::new(opts, view.is_some())?;
+    let prepared = Prepared::with_command(opts, view.is_some(), command)?;
     let channels = prepared.channels;
     let job = prepared.job();
     let pool = prepared.pool()?;
     let out_channels = if opts.oi { Channels::mono() } else { channels };
     let stdout = std::io::stdout();
     let seekable = crate::cli::stdout_is_file();
-    pool.install(|| match view {
-        Some(v) => picture(opts, &job, v, command, out_format, out_channels, seekable),
+    let reweight = prepared.reweight.as_ref();
+    let t_trace = std::time::Instant::now();
+    let result = pool.install(|| match view {
+        Some(v) => picture(
+            opts,
+            &job,
+            v,
+            command,
+            out_format,
+            out_channels,
+            seekable,
+            reweight,
+        ),
         None => {
             let stdin = std::io::stdin();
             let reader = RayReader::new(stdin.lock(), "<stdin>", ray_format);
@@ -294,9 +348,24 @@ pub fn main(opts: &Options, view: Option<View>, command: &[String]) -> Result<()
                 out_format,
                 out_channels,
                 (stdout.lock(), seekable),
+                reweight,
             )
         }
-    })
+    });
+    if opts.stats {
+        let trace = t_trace.elapsed().as_secs_f64();
+        let rays = prepared.estimator.rays();
+        eprintln!(
+            "rdc: load {:.3} s, compile {:.3} s (BVH build {:.3} s; {} surfaces, {} primitives), trace {trace:.3} s, {rays} path rays, {:.3e} rays/s",
+            prepared.load_time.as_secs_f64(),
+            prepared.compile_time.as_secs_f64(),
+            prepared.bvh_build.as_secs_f64(),
+            prepared.nsurfaces,
+            prepared.nprims,
+            rays as f64 / trace.max(1e-9)
+        );
+    }
+    result
 }
 
 fn check_combinations(opts: &Options, picture: bool, channels: &Channels) -> Result<()> {
@@ -322,6 +391,14 @@ fn check_combinations(opts: &Options, picture: bool, channels: &Channels) -> Res
             return Err(Error::Usage(format!("--target-se {t}: expected > 0")));
         }
     }
+    if opts.reweight.is_some() && opts.mf.is_none() && opts.suns.is_none() {
+        return usage(
+            "--reweight needs coefficients (-m MF or --suns): point-in-time values are not re-weighted",
+        );
+    }
+    if opts.reweight_materials.is_some() && opts.reweight.is_none() {
+        return usage("--reweight-materials needs --reweight FILE");
+    }
     if picture && opts.irradiance {
         return usage("-I with view options: pictures are radiance (drop -I or the view)");
     }
@@ -331,8 +408,8 @@ fn check_combinations(opts: &Options, picture: bool, channels: &Channels) -> Res
     Ok(())
 }
 
-fn check_sky(sky: &Sky, scene: &[String]) -> Result<()> {
-    if sky.is_empty() {
+fn check_sky(r: &Renderable, scene: &[String]) -> Result<()> {
+    if r.sources().is_empty() {
         let what = if scene.is_empty() {
             "no scene given".to_string()
         } else {
@@ -466,6 +543,7 @@ impl Progress {
 }
 
 /// Sensor mode: rays from `reader`, one output row per ray.
+#[allow(clippy::too_many_arguments)]
 pub fn sensors<R: BufRead, W: Write>(
     opts: &Options,
     job: &Job,
@@ -474,6 +552,7 @@ pub fn sensors<R: BufRead, W: Write>(
     format: DataFormat,
     channels: Channels,
     (out, seekable): (W, bool),
+    reweight: Option<&ReweightOut>,
 ) -> Result<()> {
     let irradiance = opts.irradiance;
     let query = move |r: &Ray, _: &mut Rng| sensor_query(r, irradiance);
@@ -493,6 +572,7 @@ pub fn sensors<R: BufRead, W: Write>(
     let header = output::header(command, None, &channels, Some(nrows), ncols, format);
     // The --se-out file first: an unwritable path must fail before stdout gets a header.
     let mut se_out = output::SeWriter::open(opts.se_out.as_deref(), command, nrows)?;
+    let mut rw_out = ReweightFile::open(reweight, nrows, ncols, job.ncomp)?;
     let mut sink = Sink::matrix(out, header, nrows, ncols, channels, format, opts, seekable)?;
     let progress = Progress {
         show: crate::cli::show_progress(),
@@ -523,6 +603,7 @@ pub fn sensors<R: BufRead, W: Write>(
         for r in &results {
             sink.write_row(&to_output(&r.values, opts.oi))?;
             se_out.write(r)?;
+            rw_out.write(r)?;
         }
         sink.flush()?;
         done += block.len();
@@ -536,11 +617,13 @@ pub fn sensors<R: BufRead, W: Write>(
         ));
     }
     se_out.finish()?;
+    rw_out.finish()?;
     sink.finish()
 }
 
 /// Picture mode: one record per pixel, rows top to bottom; a picture under a sky, or with
 /// coefficient modes one matrix row per pixel.
+#[allow(clippy::too_many_arguments)]
 fn picture(
     opts: &Options,
     job: &Job,
@@ -549,6 +632,7 @@ fn picture(
     format: DataFormat,
     channels: Channels,
     seekable: bool,
+    reweight: Option<&ReweightOut>,
 ) -> Result<()> {
     let cam: Camera = view.setup()?;
     let (xres, yres, _) = cam.normalize_resolution(
@@ -579,8 +663,9 @@ fn picture(
     let nrec = xres * yres;
     let ncols = job.mode.ncols();
     let stdout = std::io::stdout();
-    let matrix = !matches!(job.mode, Mode::Values { .. });
+    let matrix = !matches!(job.mode, Mode::Values);
     let mut se_out = output::SeWriter::open(opts.se_out.as_deref(), command, nrec)?;
+    let mut rw_out = ReweightFile::open(reweight, nrec, ncols, job.ncomp)?;
     let mut sink = if matrix {
         let header = output::header(
             command,
@@ -629,6 +714,7 @@ fn picture(
         }
         for r in &results {
             se_out.write(r)?;
+            rw_out.write(r)?;
         }
         sink.flush()?;
         py = end;
@@ -636,5 +722,79 @@ fn picture(
     }
     progress.end();
     se_out.finish()?;
+    rw_out.finish()?;
     sink.finish()
+}
+
+/// Where `--reweight` goes and what its header says.
+pub struct ReweightOut {
+    pub path: String,
+    pub materials: Vec<String>,
+    pub command: String,
+}
+
+/// The `--reweight` file being written: rows go to a temporary file beside the target,
+/// renamed over it by [`ReweightFile::finish`] (a failed run leaves nothing half-written).
+struct ReweightFile {
+    inner: Option<(
+        String,
+        std::path::PathBuf,
+        RowWriter<std::io::BufWriter<std::fs::File>>,
+    )>,
+}
+
+impl ReweightFile {
+    fn open(r: Option<&ReweightOut>, nrows: usize, ncols: usize, ncomp: usize) -> Result<Self> {
+        let Some(r) = r else {
+            return Ok(ReweightFile { inner: None });
+        };
+        let path = std::path::Path::new(&r.path);
+        let dir = path
+            .parent()
+            .filter(|p| !p.as_os_str().is_empty())
+            .unwrap_or(std::path::Path::new("."));
+        let name = path
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        let tmp = dir.join(format!(".{name}.{}.part", std::process::id()));
+        let f = std::fs::File::create(&tmp).map_err(|e| Error::io(&r.path, e))?;
+        let w = RowWriter::start(
+            std::io::BufWriter::new(f),
+            &r.materials,
+            nrows,
+            ncols,
+            ncomp,
+            &r.command,
+        )
+        .map_err(|e| Error::io(&r.path, e))?;
+        Ok(ReweightFile {
+            inner: Some((r.path.clone(), tmp, w)),
+        })
+    }
+
+    fn write(&mut self, r: &RecordResult) -> Result<()> {
+        if let Some((path, _, w)) = &mut self.inner {
+            w.row(&r.terms).map_err(|e| Error::io(path.as_str(), e))?;
+        }
+        Ok(())
+    }
+
+    fn finish(mut self) -> Result<()> {
+        if let Some((path, tmp, w)) = self.inner.take() {
+            let mut f = w.into_inner();
+            f.flush().map_err(|e| Error::io(path.as_str(), e))?;
+            drop(f);
+            std::fs::rename(&tmp, &path).map_err(|e| Error::io(path.as_str(), e))?;
+        }
+        Ok(())
+    }
+}
+
+impl Drop for ReweightFile {
+    fn drop(&mut self) {
+        if let Some((_, tmp, _)) = self.inner.take() {
+            let _ = std::fs::remove_file(tmp);
+        }
+    }
 }

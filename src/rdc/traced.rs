@@ -20,9 +20,12 @@ use super::tracer::{
 use crate::geometry::Vec3;
 use crate::material::Color;
 use crate::material::sampling::cosine_hemisphere;
+use crate::radiometry::MAX_SAMPLES;
 use crate::trace::integrator::SENSOR_OFFSET;
+use crate::trace::reweight::{Events, Tracking};
 use crate::trace::{Renderable, TraceParams};
 use std::f64::consts::PI;
+use std::sync::atomic::{AtomicU64, Ordering};
 
 pub struct Traced {
     scene: Renderable,
@@ -30,6 +33,10 @@ pub struct Traced {
     direct_params: TraceParams,
     /// Starting path weight for `-lw` roulette (1/`-ad`).
     w0: f64,
+    /// Materials whose re-weighting terms are recorded (`--reweight`).
+    track: Option<Tracking>,
+    /// Rays cast by paths so far (closest-hit queries, `--stats`).
+    rays: AtomicU64,
 }
 
 impl Traced {
@@ -51,19 +58,49 @@ impl Traced {
                 ..params
             },
             w0: 1.0 / ad.max(1) as f64,
+            track: None,
+            rays: AtomicU64::new(0),
         }
+    }
+
+    /// Rays cast by paths so far (closest-hit and shadow queries of path samples; the
+    /// shadow rays of `--suns` and of the direct sun term are not counted).
+    pub fn rays(&self) -> u64 {
+        self.rays.load(Ordering::Relaxed)
+    }
+
+    /// Record re-weighting terms for the materials of `track` (coefficient modes; the
+    /// tally must keep terms, [`super::tracer::Tally::with_terms`]).
+    pub fn with_tracking(mut self, track: Tracking) -> Traced {
+        self.track = Some(track);
+        self
     }
 }
 
-fn add_color(tally: &mut Tally, col: usize, c: &Color, scale: f64, buf: &mut Vec<f64>) {
-    buf.clear();
-    buf.extend(c.as_slice().iter().map(|&v| v as f64 * scale));
-    tally.add(col, buf);
+/// A stack buffer for one contribution (no allocation per sample).
+type Buf = [f64; MAX_SAMPLES];
+
+/// `c x scale` as f64 in `buf`, returned as the used slice.
+fn scaled<'a>(c: &Color, scale: f64, buf: &'a mut Buf) -> &'a [f64] {
+    let n = c.ncomp();
+    for (b, &v) in buf.iter_mut().zip(c.as_slice()) {
+        *b = v as f64 * scale;
+    }
+    &buf[..n]
+}
+
+fn add_color(tally: &mut Tally, col: usize, c: &Color, scale: f64, buf: &mut Buf) {
+    tally.add(col, scaled(c, scale, buf));
+}
+
+/// [`add_color`] with the contribution's tracked events (re-weighting runs).
+fn add_term(tally: &mut Tally, col: usize, c: &Color, scale: f64, ev: Events, buf: &mut Buf) {
+    tally.add_term(col, ev.signature(), scaled(c, scale, buf));
 }
 
 impl Estimator for Traced {
     fn sample(&self, q: &Query, mode: &Mode, stratum: Stratum, rng: &mut Rng, tally: &mut Tally) {
-        let mut buf = Vec::with_capacity(tally.ncomp());
+        let mut buf: Buf = [0.0; MAX_SAMPLES];
         let n = Vec3::from(q.dir);
         match (q.quantity, mode) {
             (
@@ -93,7 +130,8 @@ impl Estimator for Traced {
                     Quantity::Radiance => (Vec3::from(q.org), n, false, 1.0, 1.0),
                 };
                 // Escapes go straight into the tally (no per-sample allocation).
-                self.scene.path_sample(
+                let track = self.track.as_ref();
+                let (_, rays) = self.scene.path_sample(
                     org,
                     dir,
                     from_sensor,
@@ -101,10 +139,17 @@ impl Estimator for Traced {
                     w0,
                     params,
                     rng,
-                    &mut |e, beta| {
-                        add_color(tally, patches.bin_of(e.to_array()), &beta, scale, &mut buf);
+                    track,
+                    &mut |e, beta, events| {
+                        let bin = patches.bin_of(e.to_array());
+                        if track.is_some() {
+                            add_term(tally, bin, &beta, scale, *events, &mut buf);
+                        } else {
+                            add_color(tally, bin, &beta, scale, &mut buf);
+                        }
                     },
                 );
+                self.rays.fetch_add(rays, Ordering::Relaxed);
             }
             (Quantity::Irradiance, Mode::Suns { suns }) => {
                 let org = Vec3::from(q.org) + n.normalize() * SENSOR_OFFSET;
@@ -113,8 +158,12 @@ impl Estimator for Traced {
                     if c <= 0.0 {
                         continue;
                     }
-                    if let Some(t) = self.scene.transmission_towards(org, Vec3::from(s.dir)) {
-                        add_color(tally, i, &t, c * s.solid_angle, &mut buf);
+                    if let Some((t, ev)) = self.scene.transmission_towards_tracked(
+                        org,
+                        Vec3::from(s.dir),
+                        self.track.as_ref(),
+                    ) {
+                        add_term(tally, i, &t, c * s.solid_angle, ev, &mut buf);
                     }
                 }
             }
@@ -124,12 +173,16 @@ impl Estimator for Traced {
                     .iter()
                     .position(|s| n.normalize().dot(Vec3::from(s.dir)) >= s.cos_half)
                 {
-                    if let Some(t) = self.scene.transmission_towards(Vec3::from(q.org), n) {
-                        add_color(tally, i, &t, 1.0, &mut buf);
+                    if let Some((t, ev)) = self.scene.transmission_towards_tracked(
+                        Vec3::from(q.org),
+                        n,
+                        self.track.as_ref(),
+                    ) {
+                        add_term(tally, i, &t, 1.0, ev, &mut buf);
                     }
                 }
             }
-            (Quantity::Irradiance, Mode::Values { .. }) => {
+            (Quantity::Irradiance, Mode::Values) => {
                 let nn = n.normalize();
                 let org = Vec3::from(q.org) + nn * SENSOR_OFFSET;
                 let mut e = self.scene.direct_irradiance(org, nn);
@@ -138,7 +191,7 @@ impl Estimator for Traced {
                         let (u, v) = stratum.unit_square(rng);
                         Vec3::from(cosine_hemisphere(n.normalize().to_array(), u, v))
                     };
-                    let (l, _) = self.scene.path_sample(
+                    let (l, rays) = self.scene.path_sample(
                         org,
                         d,
                         true,
@@ -146,14 +199,16 @@ impl Estimator for Traced {
                         self.w0,
                         &self.params,
                         rng,
-                        &mut |_, _| {},
+                        None,
+                        &mut |_, _, _| {},
                     );
+                    self.rays.fetch_add(rays, Ordering::Relaxed);
                     e += l.scale(PI);
                 }
                 add_color(tally, 0, &e, 1.0, &mut buf);
             }
-            (Quantity::Radiance, Mode::Values { .. }) => {
-                let (l, _) = self.scene.path_sample(
+            (Quantity::Radiance, Mode::Values) => {
+                let (l, rays) = self.scene.path_sample(
                     Vec3::from(q.org),
                     n,
                     false,
@@ -161,8 +216,10 @@ impl Estimator for Traced {
                     1.0,
                     &self.params,
                     rng,
-                    &mut |_, _| {},
+                    None,
+                    &mut |_, _, _| {},
                 );
+                self.rays.fetch_add(rays, Ordering::Relaxed);
                 add_color(tally, 0, &l, 1.0, &mut buf);
             }
         }

@@ -27,8 +27,8 @@
 //! coefficient of an upward sensor is its patch's projected solid angle, the row sums to
 //! pi), which the tests compare with and with real rcontrib/rtrace.
 
-use super::intake::Sky;
 use crate::sky::SkyPatches;
+use crate::trace::reweight::{Signature, TermTally};
 use rand::Rng as _;
 use std::f64::consts::PI;
 
@@ -104,8 +104,9 @@ pub enum Mode<'a> {
     },
     /// Sun coefficients: column `i` is the unit-radiance disc `suns[i]`, seen directly.
     Suns { suns: &'a [SunDisc] },
-    /// Point-in-time values under `sky`: one column.
-    Values { sky: &'a Sky },
+    /// Point-in-time values under the scene's own sky and suns
+    /// ([`crate::trace::sources`]): one column.
+    Values,
 }
 
 impl Mode<'_> {
@@ -114,7 +115,7 @@ impl Mode<'_> {
         match self {
             Mode::Sky { patches, .. } => patches.len(),
             Mode::Suns { suns } => suns.len(),
-            Mode::Values { .. } => 1,
+            Mode::Values => 1,
         }
     }
 }
@@ -189,6 +190,8 @@ pub struct Tally {
     open: Vec<f64>,
     touched: Vec<usize>,
     samples: u64,
+    /// Re-weighting terms per (column, signature), when the run records them.
+    terms: Option<TermTally>,
 }
 
 impl Tally {
@@ -204,6 +207,39 @@ impl Tally {
             open: vec![0.0; ncols],
             touched: Vec::new(),
             samples: 0,
+            terms: None,
+        }
+    }
+
+    /// Also keep re-weighting terms ([`Tally::add_term`], [`crate::trace::reweight`]).
+    pub fn with_terms(mut self) -> Tally {
+        self.terms = Some(TermTally::default());
+        self
+    }
+
+    /// Whether re-weighting terms are kept.
+    pub fn keeps_terms(&self) -> bool {
+        self.terms.is_some()
+    }
+
+    /// [`Tally::add`] for a contribution whose path had signature `sig`: the same sums,
+    /// plus the per-signature term when terms are kept.
+    pub fn add_term(&mut self, col: usize, sig: Signature, value: &[f64]) {
+        if col >= self.ncols {
+            return;
+        }
+        self.add(col, value);
+        if let Some(t) = &mut self.terms {
+            t.add(col as u32, sig, value);
+        }
+    }
+
+    /// The record's re-weighting terms (means over the samples so far), sorted; empty when
+    /// terms are not kept.
+    pub fn terms(&self) -> Vec<(u32, Signature, Vec<f64>)> {
+        match &self.terms {
+            Some(t) => t.terms(self.ncomp, self.samples),
+            None => Vec::new(),
         }
     }
 
@@ -216,6 +252,9 @@ impl Tally {
         }
         self.touched.clear();
         self.samples = 0;
+        if let Some(t) = &mut self.terms {
+            t.clear();
+        }
     }
 
     pub fn ncols(&self) -> usize {

@@ -25,7 +25,9 @@
 //!   rays), but its diffuse lobe returns the ambient value `-av` (default black). The
 //!   material sampler picks one lobe per vertex in proportion to its coefficient, so
 //!   stopping (or adding `-av`) when the diffuse lobe is picked past the limit is unbiased
-//!   for that rule.
+//!   for that rule. `glass` is the exception: like Radiance's `glass.c` the path branches
+//!   into both the transmitted and the reflected ray (no random choice, so no binomial
+//!   noise on what is seen through a window).
 //! - `-lw`: Radiance gives each ray a weight relative to the primary ray (an ambient sample
 //!   of a sensor with `-ad N` has weight `1/N` times the path coefficient) and plays Russian
 //!   roulette when it falls below `-lw` (`raytrace.c:rayorigin`: continue with probability
@@ -52,6 +54,7 @@
 //! modifier is not tracked; no next-event estimation is done.
 
 use super::compile::Renderable;
+use super::reweight::{Events, Tracking, scales_with_colour};
 use crate::geometry::{Hit, Ray, Vec3};
 use crate::material::sampling::{cosine_hemisphere, frame};
 use crate::material::{Color, Material, SampleKind, Surface};
@@ -150,12 +153,23 @@ enum Mode {
     Values,
 }
 
+/// A surface vertex of a path.
+struct Vertex<'a> {
+    hit: &'a Hit,
+    material: &'a Material,
+    /// Index of `material` in the renderable (for tracking).
+    index: u32,
+}
+
 /// Where one path is.
+#[derive(Clone, Copy)]
 struct PathState {
     beta: Color,
     sees_sources: bool,
     diffuse: u32,
     depth: u32,
+    /// Tracked materials met (re-weighting records, [`super::reweight`]).
+    events: Events,
 }
 
 /// Jittered-stratified cosine samples: index `k` of `n`.
@@ -170,6 +184,70 @@ fn strat_uv(k: usize, n: usize, m: usize, rng: &mut impl Rng) -> (f64, f64) {
     }
 }
 
+/// [`Material::sample`] with a shortcut for the commonest material of daylight scenes, a
+/// Lambertian `plastic`/`metal` (specularity 0): there `normal.c`'s split gives
+/// `rspec = 0`, `rdiff = 1`, one lobe chosen with probability 1, so the sample is a
+/// cosine-weighted direction about the normal turned toward the viewer with weight `rho`.
+/// The numbers are bit for bit those of [`crate::material::ward::Ward::sample`] (same
+/// uniforms, same direction formula, `rho x 1 / 1`), without building its lobe table
+/// (a quarter of the run time in the furnished office).
+#[inline]
+fn sample_material(
+    m: &Material,
+    wo: Vec3,
+    s: &Surface,
+    u1: f64,
+    u2: f64,
+    u3: f64,
+) -> Option<crate::material::Sample> {
+    if let Material::Ward(w) = m {
+        if w.spec == 0.0 && w.trans == 0.0 {
+            if w.color.mean() <= 0.0 {
+                return None;
+            }
+            let n = if wo.dot(Vec3::from(s.normal)) < 0.0 {
+                -Vec3::from(s.normal)
+            } else {
+                Vec3::from(s.normal)
+            };
+            return Some(crate::material::Sample {
+                wi: cosine_hemisphere(n.to_array(), u2, u3),
+                weight: w.color,
+                kind: SampleKind::DiffuseReflect,
+            });
+        }
+    }
+    m.sample(wo.to_array(), s, u1, u2, u3)
+}
+
+/// The two rays of a `glass` pane (`glass.c`): transmitted straight on with weight `T`,
+/// reflected in the mirror direction with weight `R` (see [`crate::material::glass`]);
+/// `None` for a black one.
+fn glass_branches(
+    g: &crate::material::glass::Glass,
+    wo: Vec3,
+    s: &Surface,
+) -> (
+    Option<crate::material::Sample>,
+    Option<crate::material::Sample>,
+) {
+    let n0 = Vec3::from(s.normal);
+    let d = wo.dot(n0);
+    let (n, pdot) = if d < 0.0 { (-n0, -d) } else { (n0, d) };
+    let (t, r) = g.coefficients(pdot);
+    let t = (t.max() > 0.0).then(|| crate::material::Sample {
+        wi: (-wo).to_array(),
+        weight: t,
+        kind: SampleKind::PureTransmit,
+    });
+    let r = (r.max() > 0.0).then(|| crate::material::Sample {
+        wi: (n * (2.0 * pdot) - wo).normalize().to_array(),
+        weight: r,
+        kind: SampleKind::PureReflect,
+    });
+    (t, r)
+}
+
 impl Renderable {
     /// Closest hit (counting the ray).
     #[inline]
@@ -181,12 +259,25 @@ impl Renderable {
     /// Transmission of a shadow ray from `org` towards the distant direction `dir`:
     /// product of what each crossed surface passes; `None` when blocked.
     fn shadow(&self, org: Vec3, dir: Vec3, rays: &mut u64) -> Option<Color> {
+        self.shadow_tracked(org, dir, rays, None).map(|(t, _)| t)
+    }
+
+    /// [`Renderable::shadow`] that also records the tracked panes crossed (each crossing's
+    /// coefficient, glass `T` or trans `rho tspec`, scales with the pane's colour).
+    fn shadow_tracked(
+        &self,
+        org: Vec3,
+        dir: Vec3,
+        rays: &mut u64,
+        track: Option<&Tracking>,
+    ) -> Option<(Color, Events)> {
+        let mut events = Events::default();
         let mut t = Color::splat(self.ncomp, 1.0);
         let mut ray = Ray { org, dir };
         // A bounded number of crossings (double panes, furniture glass...).
         for _ in 0..32 {
             let Some(h) = self.cast(&ray, rays) else {
-                return Some(t);
+                return Some((t, events));
             };
             let info = self.surfaces[h.object as usize];
             let m = &self.materials[info.material as usize];
@@ -195,6 +286,11 @@ impl Renderable {
                 flat: info.flat,
             };
             t = t * m.shadow_transmission((-dir).to_array(), &s)?;
+            if let Some(tr) = track {
+                if scales_with_colour(m, crate::material::SampleKind::PureTransmit) {
+                    events.push(tr.of(info.material));
+                }
+            }
             if t.max() <= 0.0 {
                 return None;
             }
@@ -232,7 +328,8 @@ impl Renderable {
         mode: Mode,
         rng: &mut impl Rng,
         rays: &mut u64,
-        escape: &mut dyn FnMut(Vec3, Color),
+        track: Option<&Tracking>,
+        escape: &mut dyn FnMut(Vec3, Color, &Events),
     ) -> Color {
         let mut out = Color::black(self.ncomp);
         loop {
@@ -253,7 +350,7 @@ impl Renderable {
                             )
                         };
                         if counts {
-                            escape(ray.dir, st.beta);
+                            escape(ray.dir, st.beta, &st.events);
                         }
                     }
                 }
@@ -278,41 +375,101 @@ impl Renderable {
             if st.depth >= params.max_depth {
                 return out;
             }
+            let v = Vertex {
+                hit: &h,
+                material: m,
+                index: info.material,
+            };
+            if let Material::Glass(g) = m {
+                // Both of the pane's rays, as Radiance's glass.c traces them: the reflected
+                // one as a branch, the transmitted one continuing this loop. Choosing one
+                // at random (probability ~ T : R) would add binomial noise to every
+                // coefficient seen through a window.
+                let (t, r) = glass_branches(g, wo, &s);
+                if let Some(r) = r {
+                    if let Some((ray_r, st_r)) =
+                        self.advance(&v, st, r, w0, params, mode, rng, track, &mut out)
+                    {
+                        out += self.walk(ray_r, st_r, w0, params, mode, rng, rays, track, escape);
+                    }
+                }
+                let Some(t) = t else {
+                    return out;
+                };
+                match self.advance(&v, st, t, w0, params, mode, rng, track, &mut out) {
+                    Some((r, next)) => {
+                        ray = r;
+                        st = next;
+                    }
+                    None => return out,
+                }
+                continue;
+            }
             let (u1, u2, u3) = (rng.random(), rng.random(), rng.random());
-            let Some(smp) = m.sample(wo.to_array(), &s, u1, u2, u3) else {
+            let Some(smp) = sample_material(m, wo, &s, u1, u2, u3) else {
                 return out;
             };
-            let diffuse = matches!(
-                smp.kind,
-                SampleKind::DiffuseReflect | SampleKind::DiffuseTransmit
-            );
-            if diffuse {
-                if st.diffuse >= params.ab {
-                    if let (Mode::Values, Some(av)) = (mode, params.ambient_value) {
-                        out += st.beta * smp.weight * av;
-                    }
-                    return out;
+            match self.advance(&v, st, smp, w0, params, mode, rng, track, &mut out) {
+                Some((r, next)) => {
+                    ray = r;
+                    st = next;
                 }
-                st.diffuse += 1;
+                None => return out,
             }
-            if !smp.kind.sees_sources() {
-                st.sees_sources = false;
-            }
-            st.beta = st.beta * smp.weight;
-            let w = w0 * st.beta.mean();
-            if w.is_nan() || w <= 0.0 {
-                return out;
-            }
-            if w < params.lw {
-                let p = w / params.lw;
-                if rng.random::<f64>() >= p {
-                    return out;
-                }
-                st.beta = st.beta.scale(1.0 / p);
-            }
-            st.depth += 1;
-            ray = h.spawn(Vec3::from(smp.wi));
         }
+    }
+
+    /// Continue from vertex `v` along the sampled `smp` under the path rules (`-ab`, `-av`,
+    /// source visibility, tracked events, `-lw` roulette). `None` ends the path (an `-av`
+    /// contribution goes to `out` first).
+    #[allow(clippy::too_many_arguments)]
+    fn advance(
+        &self,
+        v: &Vertex,
+        mut st: PathState,
+        smp: crate::material::Sample,
+        w0: f64,
+        params: &TraceParams,
+        mode: Mode,
+        rng: &mut impl Rng,
+        track: Option<&Tracking>,
+        out: &mut Color,
+    ) -> Option<(Ray, PathState)> {
+        let diffuse = matches!(
+            smp.kind,
+            SampleKind::DiffuseReflect | SampleKind::DiffuseTransmit
+        );
+        if diffuse {
+            if st.diffuse >= params.ab {
+                if let (Mode::Values, Some(av)) = (mode, params.ambient_value) {
+                    *out += st.beta * smp.weight * av;
+                }
+                return None;
+            }
+            st.diffuse += 1;
+        }
+        if !smp.kind.sees_sources() {
+            st.sees_sources = false;
+        }
+        if let Some(tr) = track {
+            if scales_with_colour(v.material, smp.kind) {
+                st.events.push(tr.of(v.index));
+            }
+        }
+        st.beta = st.beta * smp.weight;
+        let w = w0 * st.beta.mean();
+        if w.is_nan() || w <= 0.0 {
+            return None;
+        }
+        if w < params.lw {
+            let p = w / params.lw;
+            if rng.random::<f64>() >= p {
+                return None;
+            }
+            st.beta = st.beta.scale(1.0 / p);
+        }
+        st.depth += 1;
+        Some((v.hit.spawn(Vec3::from(smp.wi)), st))
     }
 
     /// Daylight coefficients of one sensor, rcontrib `-I+ -V-` style (see the module
@@ -353,6 +510,7 @@ impl Renderable {
                 sees_sources: false,
                 diffuse: 1,
                 depth: 1,
+                events: Events::default(),
             };
             sample_total.iter_mut().for_each(|x| *x = 0.0);
             let mut rays = 0;
@@ -364,7 +522,8 @@ impl Renderable {
                 Mode::Coefficients,
                 rng,
                 &mut rays,
-                &mut |d, beta| {
+                None,
+                &mut |d, beta, _| {
                     let bin = patches.bin_of(d.to_array());
                     let row = &mut out[bin * nc..(bin + 1) * nc];
                     for (c, (o, &b)) in row.iter_mut().zip(beta.as_slice()).enumerate() {
@@ -427,6 +586,7 @@ impl Renderable {
                 sees_sources: false,
                 diffuse: 1,
                 depth: 1,
+                events: Events::default(),
             };
             let l = self.walk(
                 Ray { org: p, dir },
@@ -436,7 +596,8 @@ impl Renderable {
                 Mode::Values,
                 rng,
                 &mut rays,
-                &mut |_, _| {},
+                None,
+                &mut |_, _, _| {},
             );
             for (x, &y) in v.iter_mut().zip(l.as_slice()) {
                 *x = PI * y as f64;
@@ -469,6 +630,7 @@ impl Renderable {
             sees_sources: true,
             diffuse: 0,
             depth: 0,
+            events: Events::default(),
         };
         let mut rays = 0;
         let l = self.walk(
@@ -479,7 +641,8 @@ impl Renderable {
             Mode::Values,
             rng,
             &mut rays,
-            &mut |_, _| {},
+            None,
+            &mut |_, _, _| {},
         );
         (l, rays)
     }
@@ -493,6 +656,8 @@ impl Renderable {
     /// roulette (Radiance: 1/`-ad` for ambient samples, 1 for view rays). In coefficient mode
     /// `escape(dir, throughput)` is called for every escape into a distant glow; in value
     /// mode the radiance found is returned. Returns the value and the rays cast.
+    /// With `track`, `escape` also receives the tracked materials the path met
+    /// ([`super::reweight`]); without, the events are empty.
     #[allow(clippy::too_many_arguments)]
     pub fn path_sample(
         &self,
@@ -503,7 +668,8 @@ impl Renderable {
         w0: f64,
         params: &TraceParams,
         rng: &mut impl Rng,
-        escape: &mut dyn FnMut(Vec3, Color),
+        track: Option<&Tracking>,
+        escape: &mut dyn FnMut(Vec3, Color, &Events),
     ) -> (Color, u64) {
         let nc = self.ncomp;
         let st = PathState {
@@ -511,6 +677,7 @@ impl Renderable {
             sees_sources: !from_sensor,
             diffuse: u32::from(from_sensor),
             depth: u32::from(from_sensor),
+            events: Events::default(),
         };
         let mode = if coefficients {
             Mode::Coefficients
@@ -526,6 +693,7 @@ impl Renderable {
             mode,
             rng,
             &mut rays,
+            track,
             escape,
         );
         (l, rays)
@@ -536,6 +704,17 @@ impl Renderable {
     pub fn transmission_towards(&self, org: Vec3, dir: Vec3) -> Option<Color> {
         let mut rays = 0;
         self.shadow(org, dir.normalize(), &mut rays)
+    }
+
+    /// [`Renderable::transmission_towards`] with the tracked panes crossed.
+    pub fn transmission_towards_tracked(
+        &self,
+        org: Vec3,
+        dir: Vec3,
+        track: Option<&Tracking>,
+    ) -> Option<(Color, Events)> {
+        let mut rays = 0;
+        self.shadow_tracked(org, dir.normalize(), &mut rays, track)
     }
 
     /// The direct part of [`Renderable::irradiance`]: `L omega cos` from every distant
@@ -560,4 +739,59 @@ impl Renderable {
 pub fn sensor_frame(normal: Vec3) -> (Vec3, Vec3) {
     let (u, v) = frame(normal.normalize().to_array());
     (Vec3::from(u), Vec3::from(v))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::material::ward::{Ward, WardKind};
+    use crate::material::{Color, ShadingOptions};
+
+    #[test]
+    fn lambertian_shortcut_is_ward_sample_bit_for_bit() {
+        let mut rng = rand_pcg::Pcg64::new(7, 9);
+        for kind in [WardKind::Plastic, WardKind::Metal] {
+            let w = Ward::new(
+                kind,
+                Color::from_slice(&[0.55, 0.42, 0.3]),
+                0.0,
+                0.1,
+                0.0,
+                0.0,
+                ShadingOptions::rcontrib(),
+            );
+            let m = Material::Ward(w.clone());
+            for _ in 0..1000 {
+                let r = |rng: &mut rand_pcg::Pcg64| -> f64 { rng.random::<f64>() * 2.0 - 1.0 };
+                let n = Vec3::new(r(&mut rng), r(&mut rng), r(&mut rng)).normalize();
+                let wo = Vec3::new(r(&mut rng), r(&mut rng), r(&mut rng)).normalize();
+                let s = Surface {
+                    normal: n.to_array(),
+                    flat: true,
+                };
+                let (u1, u2, u3) = (rng.random(), rng.random(), rng.random());
+                assert_eq!(
+                    sample_material(&m, wo, &s, u1, u2, u3),
+                    w.sample(wo.to_array(), &s, u1, u2, u3)
+                );
+            }
+        }
+        // Black: no sample either way.
+        let b = Ward::new(
+            WardKind::Plastic,
+            Color::black(3),
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            ShadingOptions::rcontrib(),
+        );
+        let s = Surface::flat([0.0, 0.0, 1.0]);
+        let wo = Vec3::new(0.0, 0.0, 1.0);
+        assert_eq!(
+            sample_material(&Material::Ward(b.clone()), wo, &s, 0.5, 0.5, 0.5),
+            None
+        );
+        assert_eq!(b.sample(wo.to_array(), &s, 0.5, 0.5, 0.5), None);
+    }
 }
