@@ -83,25 +83,25 @@ fn materials() -> Vec<Material> {
         (
             "ceiling_mat",
             "ceiling (white paint)",
-            format!("ColorChecker patch 19 ({})", cc[18].0),
+            format!("ColorChecker `{}` (white 9.5)", cc[18].0),
             cc[18].1,
         ),
         (
             "wall_mat",
             "north, west, south walls (warm off-white paint)",
-            format!("Munsell chip {} ({})", wi + 1, munsell()[wi].0),
+            format!("Munsell `{}` (nearest to RGB {target:?})", munsell()[wi].0),
             munsell()[wi].1,
         ),
         (
             "accent_mat",
             "east wall (blue-green accent paint)",
-            format!("ColorChecker patch 6 ({})", cc[5].0),
+            format!("ColorChecker `{}` (bluish green)", cc[5].0),
             cc[5].1,
         ),
         (
             "floor_mat",
             "floor (brown floor covering)",
-            format!("ColorChecker patch 1 ({})", cc[0].0),
+            format!("ColorChecker `{}` (dark skin)", cc[0].0),
             cc[0].1,
         ),
     ];
@@ -383,7 +383,8 @@ fn report(r: &Results) -> (String, f64, f64, f64) {
         s,
         "\nThe RGB is the measured spectrum's colour in Radiance's RGB (equal-energy white, \
          CIE 1931 2 deg; `uplift::colorimetry`), the input an RGB-only survey would give. \
-         Reflectance errors are over the 81 wavelengths 380-780 nm (5 nm).\n\n\
+         Reflectance errors are over the 81 wavelengths 380-780 nm (5 nm). Spectra: \
+         `data/spectra/macbeth_colorchecker24.csv` and `data/spectra/munsell1269_5nm.csv`.\n\n\
          **Sky**: `rspecsky`'s 18-band Perez sky matrix (MF 1, CIE daylight spectra by sky \
          condition) from the bundled London Gatwick IWEC EPW, at the seed's hours on the \
          solstice-nearest fully overcast and clear days (London's June 21st/22nd are partly \
@@ -406,7 +407,9 @@ fn report(r: &Results) -> (String, f64, f64, f64) {
         s,
         "\n**Simulation**: `rdc -I -cs 18 -cw 380 780 -ab {AB} -ad {AD} -lw 0 -s {SEED} -m 1` \
          (daylight coefficients, through `rdc::run::Prepared`), the same seed for the three \
-         variants so that every path is the same and only the reflectances differ, times the \
+         variants so that every path is the same and only the reflectances differ (`-lw 0`: \
+         no Russian roulette, whose survival odds depend on the reflectances and would make \
+         the paths diverge), times the \
          sky matrix (what `rmtx` does); m-EDI and Ev from the 18 bands as `rmetrics \
          melanopic`. Sun and sky are in 146 Reinhart MF 1 patches (the sun smeared over its \
          patch, as in any MF 1 daylight-coefficient run).\n"
