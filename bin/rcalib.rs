@@ -157,6 +157,10 @@ struct ExplainArgs {
     /// Assumed per-sensor spread (calibration class + model noise), relative.
     #[arg(long, default_value_t = DEFAULT_SENSOR_SIGMA)]
     sensor_sigma: f64,
+    /// Write the selected effects here as `--effect SPEC` arguments for `rcalib apply`
+    /// (empty when nothing significant is missing).
+    #[arg(long)]
+    effects_out: Option<PathBuf>,
     #[arg(long)]
     report: Option<PathBuf>,
     #[arg(long)]
@@ -342,6 +346,10 @@ fn cmd_explain(a: ExplainArgs) -> Result<(), Error> {
                 .collect::<Vec<_>>()
                 .join(" ")
         );
+    }
+    if let Some(p) = &a.effects_out {
+        let args: Vec<String> = ex.specs.iter().map(|s| format!("--effect {s}")).collect();
+        write_file(p, &format!("{}\n", args.join(" ")))?;
     }
     let c = compare(&m, &m.predict(&[]), &a.common.scene.join(" "));
     let effects: Vec<Effect> = ex.selected.iter().map(|c| c.effect.clone()).collect();

@@ -20,8 +20,9 @@ use crate::error::{Error, Result};
 use crate::formats::sensors::Sensor;
 use crate::scene::{Primitive, Scene};
 
-/// Distance of the modelled exterior obstruction from the windows (m).
-pub const OBSTRUCTION_RADIUS: f64 = 30.0;
+/// Distance of the modelled exterior obstruction from the windows (m): far enough that its
+/// altitude is the same from every sensor (a horizon profile, as the effect models it).
+pub const OBSTRUCTION_RADIUS: f64 = 300.0;
 /// Reflectance of added obstructions (a dull facade).
 pub const OBSTRUCTION_REFLECTANCE: f64 = 0.1;
 
@@ -98,7 +99,7 @@ pub fn apply(
                     plastic(OBSTRUCTION_REFLECTANCE),
                 )?;
                 let top = zref + OBSTRUCTION_RADIUS * altitude.to_radians().tan();
-                let n = ((2.0 * half_width / 10.0).ceil() as usize).max(1);
+                let n = ((2.0 * half_width / 5.0).ceil() as usize).max(1);
                 for i in 0..n {
                     let a1 = (azimuth - half_width + 2.0 * half_width * i as f64 / n as f64)
                         .to_radians();

@@ -527,3 +527,93 @@ pub fn hidden_effects(kind: RoomKind) -> Vec<(String, Vec<Effect>)> {
         .map(|(n, e)| (n.to_string(), e))
         .collect()
 }
+
+/// What the hit-rate table records of one case.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct Outcome {
+    pub name: String,
+    pub hidden: Vec<String>,
+    /// Families selected by explain, in order.
+    pub selected: Vec<String>,
+    pub specs: Vec<String>,
+    /// Single-effect ranking, best first.
+    pub ranking: Vec<String>,
+    /// Single effect: ranked first and selected first; combined: every hidden family
+    /// selected; control: nothing selected.
+    pub hit: bool,
+    pub rmse_before: f64,
+    /// After applying the selected effects to the model and re-simulating with rdc.
+    pub rmse_after: f64,
+    /// The truth model simulated at the model's settings against the readings.
+    pub rmse_noise: f64,
+    pub seconds: f64,
+}
+
+impl Outcome {
+    /// The acceptance rule: hit, and the applied model within `factor` of the noise-only
+    /// error (a control passes when nothing is selected).
+    pub fn passes(&self, factor: f64) -> bool {
+        self.hit && self.rmse_after <= factor * self.rmse_noise
+    }
+}
+
+/// Run explain on a case, apply what it selects, re-simulate, compare with the noise-only
+/// error.
+pub fn evaluate(case: &Case, opts: &Options, sigma_sensor: f64) -> Result<Outcome> {
+    let t0 = std::time::Instant::now();
+    let with_refl = Options {
+        reflectance: true,
+        ..opts.clone()
+    };
+    let m = case.model(&case.model_text, &with_refl)?;
+    let ex = super::explain::explain(&m, &[], sigma_sensor);
+    let effects: Vec<Effect> = ex.selected.iter().map(|c| c.effect.clone()).collect();
+    let model = case.model_scene()?;
+    let room = room_of(&model, &case.sensors);
+    let text = super::apply::apply(&model, &room, &case.sensors, &effects, "evaluation")?;
+    let after_model = case.model(&text, opts)?;
+    // Sensor faults correct the readings; as the simulation is multiplied instead, the
+    // relative error is the same.
+    let faults: Vec<Effect> = effects
+        .iter()
+        .filter(|e| matches!(e, Effect::SensorFault { .. }))
+        .cloned()
+        .collect();
+    let rmse = |m: &Model, sim: &[f64]| {
+        let pairs: Vec<(f64, f64)> = sim.iter().zip(&m.obs).map(|(y, o)| (*y, o.value)).collect();
+        super::stats::Stats::of(&pairs).rmse_rel
+    };
+    let rmse_after = rmse(&after_model, &after_model.predict(&faults));
+    let truth = case.model(&case.truth_text, opts)?;
+    let hidden_faults: Vec<Effect> = case
+        .hidden
+        .iter()
+        .filter(|e| matches!(e, Effect::SensorFault { .. }))
+        .cloned()
+        .collect();
+    let rmse_noise = rmse(&truth, &truth.predict(&hidden_faults));
+    let hidden: Vec<String> = case.hidden.iter().map(|e| e.family().to_string()).collect();
+    let selected: Vec<String> = effects.iter().map(|e| e.family().to_string()).collect();
+    let ranking: Vec<String> = ex.ranking.iter().map(|c| c.family.clone()).collect();
+    let hit = match hidden.len() {
+        0 => selected.is_empty(),
+        1 => {
+            ranking.first() == hidden.first()
+                && selected.first() == hidden.first()
+                && (ex.ranking[0].delta_bic < -super::score::SIGNIFICANT)
+        }
+        _ => hidden.iter().all(|h| selected.contains(h)),
+    };
+    Ok(Outcome {
+        name: case.name.clone(),
+        hidden,
+        selected,
+        specs: ex.specs.clone(),
+        ranking,
+        hit,
+        rmse_before: ex.base.rmse_rel,
+        rmse_after,
+        rmse_noise,
+        seconds: t0.elapsed().as_secs_f64(),
+    })
+}

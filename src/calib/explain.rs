@@ -25,7 +25,7 @@ pub const MAX_EFFECTS: usize = 4;
 /// Besides the BIC, a kept effect must remove at least this share of the remaining squared
 /// relative error: with hundreds of readings the BIC alone accepts changes that chase the
 /// model's own Monte Carlo noise (a few percent of RMSE_rel) rather than physics.
-pub const MIN_GAIN: f64 = 0.2;
+pub const MIN_GAIN: f64 = 0.3;
 
 /// One fitted candidate.
 #[derive(Debug, Clone, Serialize)]
