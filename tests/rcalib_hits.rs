@@ -21,8 +21,13 @@ fn london() -> Weather {
 fn hit_rate_table() {
     let only = std::env::var("RCALIB_ONLY").ok();
     let cache = std::env::temp_dir().join("rcalib-hits-cache");
+    let mut settings = Settings::model();
+    if let Some(mf) = std::env::var("RCALIB_MF").ok().and_then(|s| s.parse().ok()) {
+        settings.mf = mf;
+    }
     let opts = Options {
         cache: Some(cache.clone()),
+        settings: settings.clone(),
         ..Options::default()
     };
     let steps: usize = std::env::var("RCALIB_STEPS")

@@ -20,7 +20,7 @@ use crate::scene::Scene;
 use crate::sky::SkyPatches;
 
 /// Relative reflectance step of the re-traced sensitivities.
-pub const DELTA: f64 = 0.3;
+pub const DELTA: f64 = 0.5;
 
 /// First and second derivatives (per unit of the scale factor) of the sky and
 /// inter-reflected-sun components with respect to one class's reflectance scale.

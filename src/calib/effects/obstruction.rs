@@ -2,8 +2,8 @@
 //!
 //! Buildings or trees opposite the window hide the sky below a horizon profile. The profile
 //! is one sector: azimuth `a` (east of north), half width `w`, altitude `h`. A sky patch is
-//! blocked in proportion to its area below the profile (altitude band of its Reinhart row
-//! times its azimuth overlap with the sector), a sun when it stands behind it (edges
+//! blocked in proportion to its part behind the profile (8 x 8 directions per patch,
+//! weighted by the windows' projected area towards them), a sun when it stands behind it (edges
 //! smoothed over half a degree so the fit sees a continuous profile). The obstruction is
 //! taken as black: a facade of reflectance 0.1-0.2 sends back a few percent of the blocked
 //! sky's light, which the fitted altitude absorbs. Signature: deficits that depend on which
@@ -12,6 +12,7 @@
 use super::{Effect, golden, smooth_step};
 use crate::calib::fit::{Fitter, without};
 use crate::calib::model::{Model, Weights};
+use crate::calib::room::dot;
 use std::f64::consts::PI;
 
 /// Signed angle difference a - b wrapped to (-180, 180] degrees.
@@ -31,25 +32,33 @@ pub fn apply(e: &Effect, m: &Model, w: &mut Weights) {
         return;
     };
     let p = &m.patches;
-    let alpha = p.alpha().to_degrees();
+    // Blocked share of each patch from an 8 x 8 grid of directions uniform in solid
+    // angle, weighted by how squarely they face a window (light arrives through the
+    // windows in proportion to the projected opening): the linear share of the patch's
+    // altitude band overestimates the blocking of low, grazing parts of a patch.
+    const N: usize = 8;
     for i in 1..p.len() {
-        let Some(row) = p.row_of(i) else { continue };
-        if row >= p.rows() {
-            continue; // zenith cap
+        let (mut blocked, mut total) = (0.0, 0.0);
+        for a in 0..N {
+            for b in 0..N {
+                let d = p.sample(i, (a as f64 + 0.5) / N as f64, (b as f64 + 0.5) / N as f64);
+                let wgt = m
+                    .room
+                    .windows
+                    .iter()
+                    .map(|w| w.area * dot(d, w.outward).max(0.0))
+                    .sum::<f64>()
+                    .max(1e-9);
+                let alt = d[2].clamp(-1.0, 1.0).asin().to_degrees();
+                let azi = d[0].atan2(d[1]).to_degrees();
+                let inside = half_width >= 180.0 || wrap_deg(azi - azimuth).abs() <= half_width;
+                if inside && alt < altitude {
+                    blocked += wgt;
+                }
+                total += wgt;
+            }
         }
-        let (alt, azi) = p.centre_angles(i);
-        let (alt, azi) = (alt.to_degrees(), azi.to_degrees());
-        let width = 360.0 / p.row_len(row) as f64;
-        let d = wrap_deg(azi - azimuth);
-        let overlap = if half_width >= 180.0 {
-            1.0
-        } else {
-            ((d + width / 2.0).min(half_width) - (d - width / 2.0).max(-half_width)).max(0.0)
-                / width
-        };
-        let lo = alt - alpha / 2.0;
-        let below = ((altitude - lo) / alpha).clamp(0.0, 1.0);
-        w.patch[i] *= 1.0 - overlap.min(1.0) * below;
+        w.patch[i] *= 1.0 - blocked / total;
     }
     for (t, sk) in m.skies.iter().enumerate() {
         if sk.sun_altitude_deg <= 0.0 {
