@@ -118,3 +118,18 @@ spectral-example: build
 	@rm -f $(SPEC)/irradiance18.mtx
 	@awk -F'\t' 'NR>1 {m+=$$5; e+=$$6; r+=$$7; d+=$$13; n++} END {printf "room means over daylit hours: m-EDI %.0f lx, Ev %.0f lx, M/P %.3f; mornings with m-EDI >= 250 lx 8-12 h: %.1f %% of days (%d sensors)\n", m/n, e/n, r/n, d/n, n}' $(SPEC)/melanopic.tsv
 	@echo "Per sensor: $(SPEC)/melanopic.tsv; m-EDI per sensor and hour: $(SPEC)/medi.mtx; map: $(SPEC)/medi_days.png"
+
+# rcalib on the bundled hidden-effect case (examples/calib, made by `rcalib synth`): compare
+# the model with the readings, explain the error by a missing physical effect, apply it to
+# the model, compare again and watch RMSE_rel fall. Reports in $(OUT)/calib/*.html.
+CALIB      := examples/calib
+CALIB_IN   := --sensors $(CALIB)/sensors.csv --weather $(CALIB)/weather.wea --measured $(CALIB)/measured.csv
+CALIB_OUT  := $(OUT)/calib
+.PHONY: calib-example
+calib-example:
+	$(CARGO) build --release --bin rcalib
+	@mkdir -p $(CALIB_OUT)
+	$(BIN)/rcalib compare $(CALIB)/model.rad $(CALIB_IN) --cache $(CALIB_OUT)/cache --report $(CALIB_OUT)/before.html
+	$(BIN)/rcalib explain $(CALIB)/model.rad $(CALIB_IN) --cache $(CALIB_OUT)/cache --report $(CALIB_OUT)/explain.html --effects-out $(CALIB_OUT)/effects.txt
+	$(BIN)/rcalib apply $(CALIB)/model.rad --sensors $(CALIB)/sensors.csv $$(cat $(CALIB_OUT)/effects.txt) > $(CALIB_OUT)/calibrated.rad
+	$(BIN)/rcalib compare $(CALIB_OUT)/calibrated.rad --before $(CALIB)/model.rad $(CALIB_IN) --cache $(CALIB_OUT)/cache --report $(CALIB_OUT)/after.html

@@ -1,0 +1,619 @@
+//! # Hidden-effect test cases
+//!
+//! A case is a model (what the user has), a truth (the model plus a hidden effect, written
+//! by [`super::apply`] as real geometry or materials, or a sensor fault in the readings),
+//! and readings simulated from the truth at better settings ([`Settings::truth`]) with
+//! realistic sensor noise: a fixed calibration factor per sensor, `exp(N(0, 0.03))`, and a
+//! per-reading factor `exp(N(0, 0.02))` (seeded, so a case is reproducible).
+//!
+//! Rooms ([`RoomKind`]): the example office (6 x 8 x 3 m, south window 4.8 x 1.6 m, as
+//! `examples/room/room.rad`), a deep narrow room (3.5 x 10 x 3 m, one south window) and a
+//! room with two windows (6 x 6 x 3 m, south and east).
+//!
+//! Climates ([`Climate`]): London Gatwick (the bundled IWEC EPW, measured DNI/DHI) and a
+//! synthetic sunny site (Madrid, 40.4 N 3.7 W): clear days from Meinel's clear-sky direct
+//! normal irradiance `DNI = 1353 x 0.7^(AM^0.678)` (Meinel & Meinel 1976, *Applied Solar
+//! Energy*, via Laue 1970) with air mass `1/sin(alt)`, diffuse horizontal `0.1 x DNI sin(alt)
+//! + 30`, and every fourth day overcast (no beam, diffuse 40 % of the clear global).
+
+use super::effects::Effect;
+use super::measurements::{Bound, Reading};
+use super::model::Model;
+use super::room::{Room, SurfaceClass};
+use super::session::{self, Options};
+use super::simulate::Settings;
+use crate::error::Result;
+use crate::formats::sensors::{Ray, Sensor};
+use crate::formats::weather::{Site, WeaUnits, Weather, WeatherStep};
+use crate::scene::{LoadOptions, Scene, parse_str};
+use crate::sky::solar::{Site as SolarSite, SunPosition, day_of_year};
+use rand::{Rng, SeedableRng};
+
+/// Per-sensor calibration spread and per-reading noise (relative, log-normal).
+pub const SENSOR_SIGMA: f64 = 0.03;
+pub const READING_SIGMA: f64 = 0.02;
+
+/// Room geometries.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum RoomKind {
+    Office,
+    Deep,
+    TwoWindow,
+}
+
+impl RoomKind {
+    pub const ALL: [RoomKind; 3] = [RoomKind::Office, RoomKind::Deep, RoomKind::TwoWindow];
+    pub fn name(self) -> &'static str {
+        match self {
+            RoomKind::Office => "office",
+            RoomKind::Deep => "deep",
+            RoomKind::TwoWindow => "two-window",
+        }
+    }
+}
+
+/// A window in a wall: wall index (0 south y=0, 1 east x=W, 2 north, 3 west), horizontal
+/// range along the wall from its start, sill and head.
+struct Opening {
+    wall: usize,
+    u: (f64, f64),
+    z: (f64, f64),
+}
+
+fn poly(mat: &str, id: &str, v: &[[f64; 3]]) -> String {
+    let mut s = format!("{mat} polygon {id} 0 0 {}\n", v.len() * 3);
+    for p in v {
+        s.push_str(&format!("\t{} {} {}\n", p[0], p[1], p[2]));
+    }
+    s
+}
+
+/// A box room `w` (x) by `d` (y) by `h` with openings; every normal faces into the room.
+fn box_room(w: f64, d: f64, h: f64, openings: &[Opening]) -> String {
+    let mut s = String::from(
+        "# rcalib synthetic room\n\
+         void plastic wall_mat 0 0 5 0.5 0.5 0.5 0 0\n\
+         void plastic floor_mat 0 0 5 0.2 0.2 0.2 0 0\n\
+         void plastic ceiling_mat 0 0 5 0.8 0.8 0.8 0 0\n\
+         void plastic ground_mat 0 0 5 0.2 0.2 0.2 0 0\n\
+         void glass glazing 0 0 3 0.96 0.96 0.96\n",
+    );
+    s += &poly(
+        "floor_mat",
+        "floor",
+        &[[0., 0., 0.], [w, 0., 0.], [w, d, 0.], [0., d, 0.]],
+    );
+    s += &poly(
+        "ceiling_mat",
+        "ceiling",
+        &[[0., 0., h], [0., d, h], [w, d, h], [w, 0., h]],
+    );
+    // Walls: origin, tangent (counter-clockwise seen from above inside), length.
+    let walls: [([f64; 3], [f64; 3], f64); 4] = [
+        ([0., 0., 0.], [1., 0., 0.], w),
+        ([w, 0., 0.], [0., 1., 0.], d),
+        ([w, d, 0.], [-1., 0., 0.], w),
+        ([0., d, 0.], [0., -1., 0.], d),
+    ];
+    for (k, (o, t, len)) in walls.iter().enumerate() {
+        let at = |u: f64, z: f64| [o[0] + t[0] * u, o[1] + t[1] * u, z];
+        // (u0,z0)-(u1,z1) rectangle, counter-clockwise seen from inside (normal = z x t).
+        let rect =
+            |u0: f64, u1: f64, z0: f64, z1: f64| [at(u0, z0), at(u0, z1), at(u1, z1), at(u1, z0)];
+        let mine: Vec<&Opening> = openings.iter().filter(|op| op.wall == k).collect();
+        match mine.first() {
+            None => s += &poly("wall_mat", &format!("wall{k}"), &rect(0.0, *len, 0.0, h)),
+            Some(op) => {
+                let (u0, u1) = op.u;
+                let (z0, z1) = op.z;
+                s += &poly(
+                    "wall_mat",
+                    &format!("wall{k}_sill"),
+                    &rect(0.0, *len, 0.0, z0),
+                );
+                s += &poly(
+                    "wall_mat",
+                    &format!("wall{k}_head"),
+                    &rect(0.0, *len, z1, h),
+                );
+                s += &poly("wall_mat", &format!("wall{k}_a"), &rect(0.0, u0, z0, z1));
+                s += &poly("wall_mat", &format!("wall{k}_b"), &rect(u1, *len, z0, z1));
+                s += &poly("glazing", &format!("window{k}"), &rect(u0, u1, z0, z1));
+            }
+        }
+    }
+    s += &poly(
+        "ground_mat",
+        "ground",
+        &[
+            [-30., -30., 0.],
+            [w + 30., -30., 0.],
+            [w + 30., 0., 0.],
+            [-30., 0., 0.],
+        ],
+    );
+    s
+}
+
+fn grid(xs: &[f64], ys: &[f64]) -> Vec<Sensor> {
+    let mut v = Vec::new();
+    for y in ys {
+        for x in xs {
+            v.push(Sensor {
+                id: format!("s{:02}", v.len() + 1),
+                ray: Ray::new([*x, *y, 0.8], [0.0, 0.0, 1.0]),
+            });
+        }
+    }
+    v
+}
+
+/// Scene text and sensors of a room.
+pub fn room(kind: RoomKind) -> (String, Vec<Sensor>) {
+    match kind {
+        RoomKind::Office => (
+            box_room(
+                6.0,
+                8.0,
+                3.0,
+                &[Opening {
+                    wall: 0,
+                    u: (0.6, 5.4),
+                    z: (0.9, 2.5),
+                }],
+            ),
+            grid(&[1.5, 3.0, 4.5], &[1.0, 3.0, 5.0, 7.0]),
+        ),
+        RoomKind::Deep => (
+            box_room(
+                3.5,
+                10.0,
+                3.0,
+                &[Opening {
+                    wall: 0,
+                    u: (0.5, 3.0),
+                    z: (0.9, 2.4),
+                }],
+            ),
+            grid(&[1.0, 2.5], &[1.0, 3.0, 5.0, 7.0, 9.0]),
+        ),
+        RoomKind::TwoWindow => (
+            box_room(
+                6.0,
+                6.0,
+                3.0,
+                &[
+                    Opening {
+                        wall: 0,
+                        u: (1.0, 5.0),
+                        z: (0.9, 2.4),
+                    },
+                    Opening {
+                        wall: 1,
+                        u: (1.5, 4.5),
+                        z: (0.9, 2.4),
+                    },
+                ],
+            ),
+            grid(&[1.0, 3.0, 5.0], &[1.0, 3.0, 5.0]),
+        ),
+    }
+}
+
+/// Climates.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Climate {
+    London,
+    Sunny,
+}
+
+impl Climate {
+    pub fn name(self) -> &'static str {
+        match self {
+            Climate::London => "london",
+            Climate::Sunny => "sunny",
+        }
+    }
+}
+
+/// The synthetic sunny weather (see the module doc): days 1, 8, 15, ... of March to
+/// October, hours 7.5 .. 18.5.
+pub fn sunny_weather() -> Weather {
+    let site = Site {
+        name: "Madrid".into(),
+        country: "ESP".into(),
+        latitude_deg_n: 40.4,
+        longitude_deg_e: -3.7,
+        time_zone_hours_e: 1.0,
+        elevation_m: 650.0,
+    };
+    let solar = SolarSite {
+        latitude: 40.4,
+        longitude_west: 3.7,
+        meridian_west: -15.0,
+    };
+    let mut steps = Vec::new();
+    let mut n = 0usize;
+    for month in 3..=10u8 {
+        for day in [1u8, 8, 15, 22] {
+            n += 1;
+            let overcast = n % 4 == 0;
+            for h in 7..=18 {
+                let hour = h as f64 + 0.5;
+                let pos = SunPosition::at(&solar, day_of_year(month.into(), day.into()), hour);
+                let sa = pos.altitude.sin();
+                let (dni, dhi) = if sa <= 0.02 {
+                    (0.0, 0.0)
+                } else {
+                    let am = 1.0 / sa;
+                    let dni = 1353.0 * 0.7f64.powf(am.powf(0.678));
+                    let dhi = 0.1 * dni * sa + 30.0;
+                    if overcast {
+                        (0.0, 0.4 * (dni * sa + dhi))
+                    } else {
+                        (dni, dhi)
+                    }
+                };
+                steps.push(WeatherStep {
+                    month,
+                    day,
+                    hour,
+                    direct: dni,
+                    diffuse: dhi,
+                    aod: None,
+                    sky_cover: None,
+                    dew_point: None,
+                    year: None,
+                });
+            }
+        }
+    }
+    Weather {
+        site,
+        units: WeaUnits::NormalIrradiance,
+        steps,
+        epw_text: None,
+    }
+}
+
+/// `n` measured steps of `w`: daytime steps (global horizontal above 80 W/m2) spread evenly
+/// over the candidates, from days between March and October.
+pub fn pick_steps(w: &Weather, n: usize, seed: u64) -> Vec<usize> {
+    let cand: Vec<usize> = w
+        .steps
+        .iter()
+        .enumerate()
+        .filter(|(_, s)| {
+            (3..=10).contains(&s.month) && s.diffuse < 1000.0 && s.direct < 2000.0 && {
+                s.diffuse + s.direct * 0.5 > 80.0 && s.diffuse > 10.0
+            }
+        })
+        .map(|(i, _)| i)
+        .collect();
+    if cand.is_empty() {
+        return Vec::new();
+    }
+    let stride = (cand.len() as f64 / n as f64).max(1.0);
+    let off = (seed as usize * 7) % (stride as usize).max(1);
+    (0..n)
+        .map(|k| cand[((k as f64 * stride) as usize + off).min(cand.len() - 1)])
+        .collect::<std::collections::BTreeSet<_>>()
+        .into_iter()
+        .collect()
+}
+
+/// A generated case.
+pub struct Case {
+    pub name: String,
+    pub model_text: String,
+    pub truth_text: String,
+    pub sensors: Vec<Sensor>,
+    pub weather: Weather,
+    /// Noisy readings (weather step indices).
+    pub readings: Vec<Bound>,
+    /// Noise-free truth values at the readings.
+    pub truth_values: Vec<f64>,
+    /// The hidden effects (families), empty for a control.
+    pub hidden: Vec<Effect>,
+}
+
+fn scene_of(text: &str) -> Result<Scene> {
+    parse_str(
+        text,
+        "<case>",
+        std::path::Path::new(""),
+        &LoadOptions::default(),
+    )
+}
+
+fn normal(rng: &mut rand_pcg::Pcg64) -> f64 {
+    let (u, v): (f64, f64) = (rng.random::<f64>().max(1e-12), rng.random());
+    (-2.0 * u.ln()).sqrt() * (2.0 * std::f64::consts::PI * v).cos()
+}
+
+/// Room of a scene text as the effects see it.
+pub fn room_of(scene: &Scene, sensors: &[Sensor]) -> Room {
+    Room::new(scene, super::room::sensor_centroid(sensors), &[])
+}
+
+/// Build a case: `hidden` effects applied to the room's model (sensor faults go into the
+/// readings), readings at `nsteps` steps of `weather` simulated with `truth` settings.
+#[allow(clippy::too_many_arguments)]
+pub fn generate(
+    name: &str,
+    kind: RoomKind,
+    weather: Weather,
+    hidden: Vec<Effect>,
+    nsteps: usize,
+    seed: u64,
+    truth: &Settings,
+    cache: Option<std::path::PathBuf>,
+) -> Result<Case> {
+    let (model_text, sensors) = room(kind);
+    let model = scene_of(&model_text)?;
+    let room = room_of(&model, &sensors);
+    let geometric: Vec<Effect> = hidden
+        .iter()
+        .filter(|e| !matches!(e, Effect::SensorFault { .. }))
+        .cloned()
+        .collect();
+    let truth_text = super::apply::apply(&model, &room, &sensors, &geometric, "hidden effect")?;
+    let truth_scene = scene_of(&truth_text)?;
+    let steps = pick_steps(&weather, nsteps, seed);
+    let dummy: Vec<Bound> = steps
+        .iter()
+        .flat_map(|&t| {
+            (0..sensors.len()).map(move |s| Bound {
+                sensor: s,
+                step: t,
+                value: 1.0,
+            })
+        })
+        .collect();
+    let opts = Options {
+        settings: truth.clone(),
+        cache,
+        ..Options::default()
+    };
+    let tm = session::build(&truth_scene, sensors.clone(), &weather, &dummy, &opts)?;
+    let mut values = tm.predict(&[]);
+    for e in &hidden {
+        if let Effect::SensorFault { factors } = e {
+            for (v, o) in values.iter_mut().zip(&tm.obs) {
+                if let Some((_, f)) = factors.iter().find(|f| f.0 == o.sensor) {
+                    *v *= f;
+                }
+            }
+        }
+    }
+    let mut rng = rand_pcg::Pcg64::seed_from_u64(seed);
+    let cal: Vec<f64> = (0..sensors.len())
+        .map(|_| (SENSOR_SIGMA * normal(&mut rng)).exp())
+        .collect();
+    let readings: Vec<Bound> = dummy
+        .iter()
+        .zip(&values)
+        .map(|(b, v)| Bound {
+            value: v * cal[b.sensor] * (READING_SIGMA * normal(&mut rng)).exp(),
+            ..*b
+        })
+        .collect();
+    Ok(Case {
+        name: name.to_string(),
+        model_text,
+        truth_text,
+        sensors,
+        weather,
+        readings,
+        truth_values: values,
+        hidden,
+    })
+}
+
+impl Case {
+    /// The model as a scene.
+    pub fn model_scene(&self) -> Result<Scene> {
+        scene_of(&self.model_text)
+    }
+    pub fn truth_scene(&self) -> Result<Scene> {
+        scene_of(&self.truth_text)
+    }
+    /// Build the calibration model of a scene text against this case's readings.
+    pub fn model(&self, text: &str, opts: &Options) -> Result<Model> {
+        session::build(
+            &scene_of(text)?,
+            self.sensors.clone(),
+            &self.weather,
+            &self.readings,
+            opts,
+        )
+    }
+    /// Readings as CSV records.
+    pub fn csv_readings(&self) -> Vec<Reading> {
+        self.readings
+            .iter()
+            .map(|b| {
+                let s = &self.weather.steps[b.step];
+                Reading {
+                    month: s.month.into(),
+                    day: s.day.into(),
+                    hour: s.hour,
+                    sensor: self.sensors[b.sensor].id.clone(),
+                    value: b.value,
+                    line: 0,
+                }
+            })
+            .collect()
+    }
+}
+
+/// Hidden effects of the hit-rate table (family name, effect) for a room; sensor indices
+/// refer to the room's sensors.
+pub fn hidden_effects(kind: RoomKind) -> Vec<(String, Vec<Effect>)> {
+    let (_, sensors) = room(kind);
+    let ns = sensors.len();
+    let south = 180.0;
+    let single = vec![
+        ("transmittance", vec![Effect::Transmittance { scale: 0.7 }]),
+        (
+            "obstruction",
+            vec![Effect::Obstruction {
+                azimuth: south + 20.0,
+                half_width: 45.0,
+                altitude: 30.0,
+            }],
+        ),
+        (
+            "walls",
+            vec![Effect::Reflectance {
+                class: SurfaceClass::Walls,
+                scale: 0.5,
+            }],
+        ),
+        (
+            "ground-albedo",
+            vec![Effect::Reflectance {
+                class: SurfaceClass::Ground,
+                scale: 2.5,
+            }],
+        ),
+        (
+            "overhang",
+            vec![Effect::Overhang {
+                window: 0,
+                depth: 1.2,
+            }],
+        ),
+        (
+            "local-obstruction",
+            vec![Effect::LocalObstruction {
+                sensors: vec![ns / 2 - 1, ns / 2],
+                fraction: 0.7,
+            }],
+        ),
+        (
+            "sensor-fault",
+            vec![Effect::SensorFault {
+                factors: vec![(ns - 2, 0.6)],
+            }],
+        ),
+        ("control", vec![]),
+        (
+            "transmittance+obstruction",
+            vec![
+                Effect::Transmittance { scale: 0.75 },
+                Effect::Obstruction {
+                    azimuth: south - 20.0,
+                    half_width: 40.0,
+                    altitude: 28.0,
+                },
+            ],
+        ),
+        (
+            "walls+sensor-fault",
+            vec![
+                Effect::Reflectance {
+                    class: SurfaceClass::Walls,
+                    scale: 0.5,
+                },
+                Effect::SensorFault {
+                    factors: vec![(1, 1.4)],
+                },
+            ],
+        ),
+    ];
+    single
+        .into_iter()
+        .map(|(n, e)| (n.to_string(), e))
+        .collect()
+}
+
+/// What the hit-rate table records of one case.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct Outcome {
+    pub name: String,
+    pub hidden: Vec<String>,
+    /// Families selected by explain, in order.
+    pub selected: Vec<String>,
+    pub specs: Vec<String>,
+    /// Single-effect ranking, best first.
+    pub ranking: Vec<String>,
+    /// Single effect: ranked first and selected first; combined: every hidden family
+    /// selected; control: nothing selected.
+    pub hit: bool,
+    pub rmse_before: f64,
+    /// After applying the selected effects to the model and re-simulating with rdc.
+    pub rmse_after: f64,
+    /// The truth model simulated at the model's settings against the readings.
+    pub rmse_noise: f64,
+    pub seconds: f64,
+}
+
+impl Outcome {
+    /// The acceptance rule: hit, and the applied model within `factor` of the noise-only
+    /// error (a control passes when nothing is selected).
+    pub fn passes(&self, factor: f64) -> bool {
+        self.hit && self.rmse_after <= factor * self.rmse_noise
+    }
+}
+
+/// Run explain on a case, apply what it selects, re-simulate, compare with the noise-only
+/// error.
+pub fn evaluate(case: &Case, opts: &Options, sigma_sensor: f64) -> Result<Outcome> {
+    let t0 = std::time::Instant::now();
+    let with_refl = Options {
+        reflectance: true,
+        ..opts.clone()
+    };
+    let m = case.model(&case.model_text, &with_refl)?;
+    let ex = super::explain::explain(&m, &[], sigma_sensor);
+    let effects: Vec<Effect> = ex.selected.iter().map(|c| c.effect.clone()).collect();
+    let model = case.model_scene()?;
+    let room = room_of(&model, &case.sensors);
+    let text = super::apply::apply(&model, &room, &case.sensors, &effects, "evaluation")?;
+    let after_model = case.model(&text, opts)?;
+    // Sensor faults correct the readings; as the simulation is multiplied instead, the
+    // relative error is the same.
+    let faults: Vec<Effect> = effects
+        .iter()
+        .filter(|e| matches!(e, Effect::SensorFault { .. }))
+        .cloned()
+        .collect();
+    let rmse = |m: &Model, sim: &[f64]| {
+        let pairs: Vec<(f64, f64)> = sim.iter().zip(&m.obs).map(|(y, o)| (*y, o.value)).collect();
+        super::stats::Stats::of(&pairs).rmse_rel
+    };
+    let rmse_after = rmse(&after_model, &after_model.predict(&faults));
+    let truth = case.model(&case.truth_text, opts)?;
+    let hidden_faults: Vec<Effect> = case
+        .hidden
+        .iter()
+        .filter(|e| matches!(e, Effect::SensorFault { .. }))
+        .cloned()
+        .collect();
+    let rmse_noise = rmse(&truth, &truth.predict(&hidden_faults));
+    let hidden: Vec<String> = case.hidden.iter().map(|e| e.family().to_string()).collect();
+    let selected: Vec<String> = effects.iter().map(|e| e.family().to_string()).collect();
+    let ranking: Vec<String> = ex.ranking.iter().map(|c| c.family.clone()).collect();
+    let hit = match hidden.len() {
+        0 => selected.is_empty(),
+        1 => {
+            ranking.first() == hidden.first()
+                && selected.first() == hidden.first()
+                && (ex.ranking[0].delta_bic < -super::score::SIGNIFICANT)
+        }
+        _ => hidden.iter().all(|h| selected.contains(h)),
+    };
+    Ok(Outcome {
+        name: case.name.clone(),
+        hidden,
+        selected,
+        specs: ex.specs.clone(),
+        ranking,
+        hit,
+        rmse_before: ex.base.rmse_rel,
+        rmse_after,
+        rmse_noise,
+        seconds: t0.elapsed().as_secs_f64(),
+    })
+}

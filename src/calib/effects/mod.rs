@@ -1,0 +1,328 @@
+//! # Candidate missing effects
+//!
+//! Each effect is a physically parameterised change of the model with its own signature in
+//! the residuals, expressed through the daylight-coefficient [`Components`] (no re-tracing
+//! while fitting, except the cached reflectance re-traces):
+//!
+//! | effect | parameters | acts on | signature |
+//! |---|---|---|---|
+//! | [`transmittance`] | scale of the glazing transmittance | everything | uniform bias |
+//! | [`obstruction`] | horizon sector: azimuth, half width, altitude | sky patches and suns behind it | low-sky and low-sun hours, sky-view dependent |
+//! | [`reflectance`] | scale per surface class (walls, ceiling, floor, ground) | inter-reflected light (re-traced coefficients) | grows with depth / with ground-lit ceiling |
+//! | [`overhang`] | depth above a window head | high patches and high suns, per sensor | sun hours near the window |
+//! | [`local`] | blocked fraction of the direct light at a group of sensors | direct sky and sun at those sensors | a few neighbouring sensors, sun hours |
+//! | [`sensor`] | calibration factor per faulty sensor | one sensor's readings | constant ratio at one sensor |
+//!
+//! Effects compose ([`Model::predict`](super::model::Model::predict)): exterior weights per
+//! patch and sun, window weights (overhang), per-sensor direct-light weights (local), then
+//! the glazing scale and the sensor factors.
+
+pub mod local;
+pub mod obstruction;
+pub mod overhang;
+pub mod reflectance;
+pub mod sensor;
+pub mod transmittance;
+
+use super::room::SurfaceClass;
+use crate::error::{Error, Result};
+use serde::Serialize;
+
+/// One effect with its parameters. Angles in degrees, azimuth east of north.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(tag = "effect")]
+pub enum Effect {
+    /// Glazing transmittance times `scale`.
+    Transmittance { scale: f64 },
+    /// Sky below `altitude` within `half_width` of `azimuth` is blocked.
+    Obstruction {
+        azimuth: f64,
+        half_width: f64,
+        altitude: f64,
+    },
+    /// Reflectance of a surface class times `scale`.
+    Reflectance { class: SurfaceClass, scale: f64 },
+    /// A horizontal overhang of `depth` metres at the head of window `window` (index into
+    /// the room's windows).
+    Overhang { window: usize, depth: f64 },
+    /// `fraction` of the direct light (sky and sun) blocked at `sensors` (indices).
+    LocalObstruction { sensors: Vec<usize>, fraction: f64 },
+    /// Readings of `sensor` are `factor` times the true illuminance.
+    SensorFault { factors: Vec<(usize, f64)> },
+}
+
+/// Names of the effect families, in the order they are tried.
+pub const FAMILIES: [&str; 9] = [
+    "transmittance",
+    "obstruction",
+    "walls",
+    "ceiling",
+    "floor",
+    "ground-albedo",
+    "overhang",
+    "local-obstruction",
+    "sensor-fault",
+];
+
+impl Effect {
+    /// The family name (`walls` etc. for reflectance classes).
+    pub fn family(&self) -> &'static str {
+        match self {
+            Effect::Transmittance { .. } => "transmittance",
+            Effect::Obstruction { .. } => "obstruction",
+            Effect::Reflectance { class, .. } => match class {
+                SurfaceClass::Walls => "walls",
+                SurfaceClass::Ceiling => "ceiling",
+                SurfaceClass::Floor => "floor",
+                SurfaceClass::Ground => "ground-albedo",
+            },
+            Effect::Overhang { .. } => "overhang",
+            Effect::LocalObstruction { .. } => "local-obstruction",
+            Effect::SensorFault { .. } => "sensor-fault",
+        }
+    }
+
+    /// Free parameters (for the BIC penalty): continuous ones plus one per discrete choice
+    /// that was searched (sector, window, sensor group).
+    pub fn n_params(&self) -> usize {
+        match self {
+            Effect::Transmittance { .. } | Effect::Reflectance { .. } => 1,
+            Effect::Obstruction { .. } => 3,
+            Effect::Overhang { .. } => 2,
+            Effect::LocalObstruction { .. } => 3,
+            Effect::SensorFault { factors } => factors.len(),
+        }
+    }
+
+    /// The main continuous parameter (its uncertainty is reported).
+    pub fn primary(&self) -> (&'static str, f64) {
+        match self {
+            Effect::Transmittance { scale } => ("scale", *scale),
+            Effect::Obstruction { altitude, .. } => ("altitude_deg", *altitude),
+            Effect::Reflectance { scale, .. } => ("scale", *scale),
+            Effect::Overhang { depth, .. } => ("depth_m", *depth),
+            Effect::LocalObstruction { fraction, .. } => ("fraction", *fraction),
+            Effect::SensorFault { factors } => ("factor", factors.first().map_or(1.0, |f| f.1)),
+        }
+    }
+
+    /// The same effect with the main continuous parameter set to `v`.
+    pub fn with_primary(&self, v: f64) -> Effect {
+        let mut e = self.clone();
+        match &mut e {
+            Effect::Transmittance { scale } | Effect::Reflectance { scale, .. } => *scale = v,
+            Effect::Obstruction { altitude, .. } => *altitude = v,
+            Effect::Overhang { depth, .. } => *depth = v,
+            Effect::LocalObstruction { fraction, .. } => *fraction = v,
+            Effect::SensorFault { factors } => {
+                if let Some(f) = factors.first_mut() {
+                    f.1 = v
+                }
+            }
+        }
+        e
+    }
+
+    /// `NAME:params` as `rcalib apply --effect` reads it; sensor and window references by id.
+    pub fn spec(&self, sensor_ids: &[String], window_ids: &[String]) -> String {
+        let sid = |i: &usize| sensor_ids.get(*i).cloned().unwrap_or_else(|| i.to_string());
+        match self {
+            Effect::Transmittance { scale } => format!("transmittance:{scale:.3}"),
+            Effect::Obstruction {
+                azimuth,
+                half_width,
+                altitude,
+            } => format!("obstruction:{azimuth:.0},{half_width:.0},{altitude:.1}"),
+            Effect::Reflectance { scale, .. } => format!("{}:{scale:.3}", self.family()),
+            Effect::Overhang { window, depth } => format!(
+                "overhang:{depth:.2},{}",
+                window_ids.get(*window).cloned().unwrap_or_default()
+            ),
+            Effect::LocalObstruction { sensors, fraction } => format!(
+                "local-obstruction:{fraction:.2},{}",
+                sensors.iter().map(sid).collect::<Vec<_>>().join("+")
+            ),
+            Effect::SensorFault { factors } => format!(
+                "sensor-fault:{}",
+                factors
+                    .iter()
+                    .map(|(s, f)| format!("{}={f:.3}", sid(s)))
+                    .collect::<Vec<_>>()
+                    .join("+")
+            ),
+        }
+    }
+
+    /// Parse `NAME:params` (see [`Effect::spec`]).
+    pub fn parse(spec: &str, sensor_ids: &[String], window_ids: &[String]) -> Result<Effect> {
+        let (name, params) = spec.split_once(':').unwrap_or((spec, ""));
+        let bad = |what: &str| {
+            Error::Usage(format!(
+                "--effect '{spec}': {what}; expected one of transmittance:SCALE, \
+                 obstruction:AZIMUTH,HALF_WIDTH,ALTITUDE, walls|ceiling|floor|ground-albedo:SCALE, \
+                 overhang:DEPTH[,WINDOW], local-obstruction:FRACTION,ID+ID, sensor-fault:ID=F+ID=F"
+            ))
+        };
+        let nums = |s: &str| -> Result<Vec<f64>> {
+            s.split(',')
+                .map(|x| {
+                    x.trim()
+                        .parse::<f64>()
+                        .map_err(|_| bad(&format!("'{x}' is not a number")))
+                })
+                .collect()
+        };
+        let sensor = |id: &str| -> Result<usize> {
+            sensor_ids
+                .iter()
+                .position(|s| s == id)
+                .ok_or_else(|| bad(&format!("unknown sensor id '{id}'")))
+        };
+        let one = |s: &str| -> Result<f64> {
+            match nums(s)?.as_slice() {
+                [v] if *v >= 0.0 => Ok(*v),
+                _ => Err(bad("expected one non-negative number")),
+            }
+        };
+        Ok(match name {
+            "transmittance" => Effect::Transmittance {
+                scale: one(params)?,
+            },
+            "walls" | "ceiling" | "floor" | "ground-albedo" => Effect::Reflectance {
+                class: match name {
+                    "walls" => SurfaceClass::Walls,
+                    "ceiling" => SurfaceClass::Ceiling,
+                    "floor" => SurfaceClass::Floor,
+                    _ => SurfaceClass::Ground,
+                },
+                scale: one(params)?,
+            },
+            "obstruction" => match nums(params)?.as_slice() {
+                [a, w, h] if (0.0..=90.0).contains(h) && *w > 0.0 => Effect::Obstruction {
+                    azimuth: a.rem_euclid(360.0),
+                    half_width: w.min(180.0),
+                    altitude: *h,
+                },
+                _ => return Err(bad("expected AZIMUTH,HALF_WIDTH>0,ALTITUDE 0..90")),
+            },
+            "overhang" => {
+                let (d, w) = params.split_once(',').unwrap_or((params, ""));
+                let window = if w.is_empty() {
+                    0
+                } else {
+                    window_ids
+                        .iter()
+                        .position(|x| x == w)
+                        .ok_or_else(|| bad(&format!("no window (glass polygon) '{w}'")))?
+                };
+                Effect::Overhang {
+                    window,
+                    depth: one(d)?,
+                }
+            }
+            "local-obstruction" => {
+                let (f, ids) = params
+                    .split_once(',')
+                    .ok_or_else(|| bad("expected FRACTION,ID+ID"))?;
+                let fraction = one(f)?;
+                if fraction > 1.0 {
+                    return Err(bad("fraction above 1"));
+                }
+                let sensors = ids.split('+').map(sensor).collect::<Result<Vec<_>>>()?;
+                Effect::LocalObstruction { sensors, fraction }
+            }
+            "sensor-fault" => {
+                let factors = params
+                    .split('+')
+                    .map(|item| {
+                        let (id, f) = item
+                            .split_once('=')
+                            .ok_or_else(|| bad("expected ID=FACTOR"))?;
+                        let f = one(f)?;
+                        if f <= 0.0 {
+                            return Err(bad("factor must be > 0"));
+                        }
+                        Ok((sensor(id)?, f))
+                    })
+                    .collect::<Result<Vec<_>>>()?;
+                Effect::SensorFault { factors }
+            }
+            _ => return Err(bad(&format!("unknown effect '{name}'"))),
+        })
+    }
+
+    /// One line saying what the effect means physically.
+    pub fn describe(&self, sensor_ids: &[String], window_ids: &[String]) -> String {
+        let sid = |i: &usize| sensor_ids.get(*i).cloned().unwrap_or_else(|| i.to_string());
+        match self {
+            Effect::Transmittance { scale } => format!(
+                "glazing transmits {:.0} % of the modelled value (dirt, ageing, coating)",
+                100.0 * scale
+            ),
+            Effect::Obstruction {
+                azimuth,
+                half_width,
+                altitude,
+            } => format!(
+                "exterior obstruction up to {altitude:.1} deg altitude between azimuth {:.0} and \
+                 {:.0} deg (east of north)",
+                (azimuth - half_width).rem_euclid(360.0),
+                (azimuth + half_width).rem_euclid(360.0)
+            ),
+            Effect::Reflectance { class, scale } => format!(
+                "{} reflectance {:.0} % of the modelled value",
+                class.name(),
+                100.0 * scale
+            ),
+            Effect::Overhang { window, depth } => format!(
+                "overhang {depth:.2} m deep above window '{}'",
+                window_ids.get(*window).cloned().unwrap_or_default()
+            ),
+            Effect::LocalObstruction { sensors, fraction } => format!(
+                "local obstruction blocking {:.0} % of the direct light at sensors {}",
+                100.0 * fraction,
+                sensors.iter().map(sid).collect::<Vec<_>>().join(", ")
+            ),
+            Effect::SensorFault { factors } => format!(
+                "sensor calibration: {}",
+                factors
+                    .iter()
+                    .map(|(s, f)| format!("{} reads x{f:.2}", sid(s)))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
+        }
+    }
+}
+
+/// Golden-section minimisation of `f` on `[lo, hi]` (a unimodal profile is assumed; the
+/// fits call it on one parameter at a time). Returns (argmin, min).
+pub fn golden(f: &mut dyn FnMut(f64) -> f64, lo: f64, hi: f64, iters: usize) -> (f64, f64) {
+    let g = (5f64.sqrt() - 1.0) / 2.0;
+    let (mut a, mut b) = (lo, hi);
+    let mut c = b - g * (b - a);
+    let mut d = a + g * (b - a);
+    let (mut fc, mut fd) = (f(c), f(d));
+    for _ in 0..iters {
+        if fc < fd {
+            b = d;
+            d = c;
+            fd = fc;
+            c = b - g * (b - a);
+            fc = f(c);
+        } else {
+            a = c;
+            c = d;
+            fc = fd;
+            d = a + g * (b - a);
+            fd = f(d);
+        }
+    }
+    if fc < fd { (c, fc) } else { (d, fd) }
+}
+
+/// Smooth step from 0 (x << 0) to 1 (x >> 0) over about `width` (logistic): keeps fitted
+/// profiles continuous where sky patches or suns cross an edge.
+pub fn smooth_step(x: f64, width: f64) -> f64 {
+    1.0 / (1.0 + (-x / width.max(1e-12)).exp())
+}

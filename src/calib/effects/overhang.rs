@@ -1,0 +1,119 @@
+//! # Overhang (shading) above a window
+//!
+//! A horizontal projection of depth `D` at the head of a window of height `H` hides, for a
+//! direction with profile angle φ (tan φ = d_z / (d · n_out), the altitude projected on the
+//! plane normal to the window: Tregenza & Wilson, *Daylighting*, 2011, sec. 10.2), the
+//! upper `D tan φ` of the opening. So:
+//!
+//! - light of a sky patch or the sun entering the room (what reaches sensors through
+//!   inter-reflection) loses the fraction `min(1, D tan φ / H)` of that window's share;
+//! - the direct view from a sensor through the point at height z of the opening is blocked
+//!   when `z + D tan φ > head` (per sensor, patch and sun; smoothed over 3 cm).
+//!
+//! The overhang is taken as wide enough to shade the whole opening at oblique angles.
+//! Signature: high sun and high sky, so mostly sun hours and sensors near the window.
+
+use super::{Effect, golden, smooth_step};
+use crate::calib::fit::{Fitter, without};
+use crate::calib::model::{Model, Weights};
+use crate::calib::room::{Window, dot};
+
+/// Fraction of the opening `w` shaded for direction `d` (unit, towards the sky), and the
+/// window's projected area towards `d`.
+fn shaded(w: &Window, depth: f64, d: [f64; 3]) -> (f64, f64) {
+    let c = dot(d, w.outward);
+    if c <= 1e-6 {
+        return (0.0, 0.0);
+    }
+    let tan_phi = d[2] / c;
+    ((depth * tan_phi / w.height()).clamp(0.0, 1.0), w.area * c)
+}
+
+/// Weight of the direct view from `org` along `d` past an overhang on window `w`: 1 when the
+/// ray misses the window.
+fn direct(w: &Window, depth: f64, org: [f64; 3], d: [f64; 3]) -> f64 {
+    let c = dot(d, w.outward);
+    let dist = w.depth_of(org);
+    if c <= 1e-6 || dist <= 0.0 {
+        return 1.0;
+    }
+    let t = dist / c;
+    let hit = [org[0] + d[0] * t, org[1] + d[1] * t, org[2] + d[2] * t];
+    let u = dot(hit, w.tangent);
+    if hit[2] < w.sill - 1e-6 || hit[2] > w.head + 1e-6 || u < w.span.0 || u > w.span.1 {
+        return 1.0;
+    }
+    let tan_phi = d[2] / c;
+    1.0 - smooth_step(hit[2] + depth * tan_phi - w.head, 0.03)
+}
+
+/// Multiply the window weights by what the overhang leaves.
+pub fn apply(e: &Effect, m: &Model, wt: &mut Weights) {
+    let Effect::Overhang { window, depth } = *e else {
+        return;
+    };
+    let Some(win) = m.room.windows.get(window) else {
+        return;
+    };
+    let share = |d: [f64; 3]| -> f64 {
+        let (f, a) = shaded(win, depth, d);
+        let total: f64 = m
+            .room
+            .windows
+            .iter()
+            .map(|w| w.area * dot(d, w.outward).max(0.0))
+            .sum();
+        if total > 0.0 { f * a / total } else { 0.0 }
+    };
+    let np = m.comps.npatch;
+    let ns = m.nsens();
+    let nt = m.nsteps();
+    let mut wd = wt.win_dir.take().unwrap_or_else(|| vec![1.0; ns * np]);
+    for p in 1..np {
+        let d = m.patches.centre(p);
+        wt.win_ind[p] *= 1.0 - share(d);
+        for (s, sensor) in m.sensors.iter().enumerate() {
+            wd[s * np + p] *= direct(win, depth, sensor.ray.org, d);
+        }
+    }
+    wt.win_dir = Some(wd);
+    let mut sd = wt.sun_win_dir.take().unwrap_or_else(|| vec![1.0; ns * nt]);
+    for (t, sk) in m.skies.iter().enumerate() {
+        if sk.sun_altitude_deg <= 0.0 {
+            continue;
+        }
+        wt.sun_win_ind[t] *= 1.0 - share(sk.sun_dir);
+        for (s, sensor) in m.sensors.iter().enumerate() {
+            sd[s * nt + t] *= direct(win, depth, sensor.ray.org, sk.sun_dir);
+        }
+    }
+    wt.sun_win_dir = Some(sd);
+}
+
+/// Best depth (0 to 3 m) for each window given the other effects.
+pub fn fit(f: &Fitter, base: &[Effect]) -> Option<Effect> {
+    let base = without(base, "overhang");
+    let mut best: Option<(Effect, f64)> = None;
+    for window in 0..f.m.room.windows.len() {
+        let mut eval = |depth: f64| {
+            let mut e = base.clone();
+            e.push(Effect::Overhang { window, depth });
+            f.score(&e).m2ll
+        };
+        // Coarse scan first: the profile can have shoulders where suns cross edges.
+        let mut start = (0.0, f64::INFINITY);
+        for k in 0..=12 {
+            let d = 0.25 * k as f64;
+            let s = eval(d);
+            if s < start.1 {
+                start = (d, s);
+            }
+        }
+        let (d, s) = golden(&mut eval, (start.0 - 0.25).max(0.0), start.0 + 0.25, 14);
+        let (d, s) = if s < start.1 { (d, s) } else { start };
+        if best.as_ref().is_none_or(|b| s < b.1) {
+            best = Some((Effect::Overhang { window, depth: d }, s));
+        }
+    }
+    best.map(|b| b.0)
+}

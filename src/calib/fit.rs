@@ -1,0 +1,79 @@
+//! # Scoring effect combinations against the readings
+//!
+//! [`Fitter`] binds a [`Model`] to its readings and scores any list of effects with the
+//! noise-aware BIC of [`super::score`]. The effect fits call it inside one-dimensional
+//! searches; families that only rescale the final values (glazing, local obstruction,
+//! sensor factors) reuse the per-observation parts ([`Model::parts`]) of the other effects.
+
+use super::effects::Effect;
+use super::model::{Model, Weights};
+use super::score::{Score, score};
+
+/// A model and its readings.
+pub struct Fitter<'a> {
+    pub m: &'a Model,
+    pub meas: Vec<f64>,
+    pub sensor: Vec<usize>,
+    /// Assumed per-sensor spread (see [`super::score`]).
+    pub sigma_sensor: f64,
+}
+
+impl<'a> Fitter<'a> {
+    pub fn new(m: &'a Model, sigma_sensor: f64) -> Fitter<'a> {
+        Fitter {
+            m,
+            sigma_sensor,
+            meas: m.measured(),
+            sensor: m.obs.iter().map(|o| o.sensor).collect(),
+        }
+    }
+
+    /// Score of simulated readings.
+    pub fn score_sim(&self, sim: &[f64]) -> Score {
+        score(
+            sim,
+            &self.meas,
+            &self.sensor,
+            self.m.nsens(),
+            self.sigma_sensor,
+        )
+    }
+
+    /// Score of a list of effects.
+    pub fn score(&self, effects: &[Effect]) -> Score {
+        self.score_sim(&self.m.predict(effects))
+    }
+
+    /// BIC of a list of effects (k = their parameters).
+    pub fn bic(&self, effects: &[Effect]) -> f64 {
+        let k: usize = effects.iter().map(Effect::n_params).sum();
+        self.score(effects).bic(k)
+    }
+
+    /// -2 ln L from precomputed parts and final weights.
+    pub fn m2ll_parts(&self, parts: &[(f64, f64)], w: &Weights) -> f64 {
+        self.score_sim(&self.m.finish(parts, w)).m2ll
+    }
+
+    /// Standard uncertainty of the main parameter of `effects[i]` from the curvature of
+    /// -2 ln L (Fisher information: var = 2 / second derivative), `None` when flat.
+    pub fn uncertainty(&self, effects: &[Effect], i: usize, step: f64) -> Option<f64> {
+        let (_, v) = effects.get(i)?.primary();
+        let at = |x: f64| {
+            let mut e = effects.to_vec();
+            e[i] = e[i].with_primary(x);
+            self.score(&e).m2ll
+        };
+        let (lo, mid, hi) = (at(v - step), at(v), at(v + step));
+        let curv = (lo - 2.0 * mid + hi) / (step * step);
+        (curv > 0.0).then(|| (2.0 / curv).sqrt())
+    }
+}
+
+/// `base` with every effect of `family` removed.
+pub fn without(base: &[Effect], family: &str) -> Vec<Effect> {
+    base.iter()
+        .filter(|e| e.family() != family)
+        .cloned()
+        .collect()
+}

@@ -1,0 +1,276 @@
+//! # What the effects need to know about the model: windows and surface classes
+//!
+//! Windows are the surfaces whose material is `glass` (polygons). For each one the outward
+//! normal (horizontal part, pointing away from the sensors), sill and head heights and area
+//! are kept: the overhang effect uses them (profile angles, Chapter "shading" of any daylight
+//! text, e.g. Tregenza & Wilson, *Daylighting*, 2011, sec. 10.2), the report uses the
+//! distance of each sensor from the window wall.
+//!
+//! Reflectance classes group the opaque materials (`plastic`, `metal`, `trans`) the
+//! reflectance effects scale: by a `--classes` mapping `material=class,...` first, else by
+//! keywords in the material name (`wall`, `ceil`, `floor`, `ground`/`terrain`/`exterior`).
+
+use crate::error::{Error, Result};
+use crate::scene::{Primitive, Scene};
+
+/// Surface classes whose reflectance the `reflectance` effects scale.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum SurfaceClass {
+    Walls,
+    Ceiling,
+    Floor,
+    /// Exterior ground (and the gendaymtx ground patch): the ground-albedo effect.
+    Ground,
+}
+
+impl SurfaceClass {
+    pub const ALL: [SurfaceClass; 4] = [
+        SurfaceClass::Walls,
+        SurfaceClass::Ceiling,
+        SurfaceClass::Floor,
+        SurfaceClass::Ground,
+    ];
+    pub fn name(self) -> &'static str {
+        match self {
+            SurfaceClass::Walls => "walls",
+            SurfaceClass::Ceiling => "ceiling",
+            SurfaceClass::Floor => "floor",
+            SurfaceClass::Ground => "ground",
+        }
+    }
+    pub fn from_name(s: &str) -> Option<SurfaceClass> {
+        SurfaceClass::ALL.into_iter().find(|c| c.name() == s)
+    }
+    /// Class by keyword in a material name.
+    pub fn from_keyword(material: &str) -> Option<SurfaceClass> {
+        let m = material.to_ascii_lowercase();
+        if m.contains("wall") {
+            Some(SurfaceClass::Walls)
+        } else if m.contains("ceil") {
+            Some(SurfaceClass::Ceiling)
+        } else if m.contains("floor") {
+            Some(SurfaceClass::Floor)
+        } else if m.contains("ground") || m.contains("terrain") || m.contains("exterior") {
+            Some(SurfaceClass::Ground)
+        } else {
+            None
+        }
+    }
+}
+
+/// Parse a `--classes` mapping `material=class,material=class`.
+pub fn parse_classes(spec: &str) -> Result<Vec<(String, SurfaceClass)>> {
+    let mut out = Vec::new();
+    for item in spec.split(',').filter(|s| !s.trim().is_empty()) {
+        let (m, c) = item.split_once('=').ok_or_else(|| {
+            Error::Usage(format!(
+                "--classes '{item}': expected material=class (walls, ceiling, floor, ground)"
+            ))
+        })?;
+        let class = SurfaceClass::from_name(c.trim()).ok_or_else(|| {
+            Error::Usage(format!(
+                "--classes '{item}': unknown class '{c}'; expected walls, ceiling, floor or ground"
+            ))
+        })?;
+        out.push((m.trim().to_string(), class));
+    }
+    Ok(out)
+}
+
+/// One glazed opening.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Window {
+    pub id: String,
+    pub centroid: [f64; 3],
+    /// Unit horizontal normal pointing outside (away from the sensors).
+    pub outward: [f64; 3],
+    pub sill: f64,
+    pub head: f64,
+    pub area: f64,
+    /// Horizontal extent along the wall: (min, max) of the coordinate along `tangent`.
+    pub span: (f64, f64),
+    /// Unit horizontal direction along the wall (outward rotated 90 degrees).
+    pub tangent: [f64; 3],
+}
+
+impl Window {
+    /// Signed distance of `p` from the window plane, positive inside the room.
+    pub fn depth_of(&self, p: [f64; 3]) -> f64 {
+        -dot(sub(p, self.centroid), self.outward)
+    }
+    pub fn height(&self) -> f64 {
+        self.head - self.sill
+    }
+}
+
+/// Centroid of sensor positions (a point inside the room).
+pub fn sensor_centroid(sensors: &[crate::formats::sensors::Sensor]) -> [f64; 3] {
+    let n = sensors.len().max(1) as f64;
+    sensors.iter().fold([0.0; 3], |c, s| {
+        let o = s.ray.org;
+        [c[0] + o[0] / n, c[1] + o[1] / n, c[2] + o[2] / n]
+    })
+}
+
+pub(crate) fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+pub(crate) fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+/// The model's windows and reflectance classes.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Room {
+    pub windows: Vec<Window>,
+    /// (material id, class) of every classified opaque material.
+    pub materials: Vec<(String, SurfaceClass)>,
+    /// Mean transmissivity and refractive index of the windows' glass (0.96, 1.52 if none).
+    pub glass_tn: f64,
+    pub glass_index: f64,
+}
+
+impl Room {
+    /// Find windows (glass polygons) and classify materials. `inside` is a point in the room
+    /// (the sensors' centroid) that decides which way is out.
+    pub fn new(scene: &Scene, inside: [f64; 3], mapping: &[(String, SurfaceClass)]) -> Room {
+        let mut windows = Vec::new();
+        let (mut glass_tn, mut glass_index) = (0.96, 1.52);
+        for (i, obj) in scene.surfaces() {
+            let Primitive::Polygon { vertices } = &obj.kind else {
+                continue;
+            };
+            let is_glass = scene
+                .material_of(i)
+                .is_some_and(|m| matches!(scene.objects[m].kind, Primitive::Glass { .. }));
+            if !is_glass || vertices.len() < 3 {
+                continue;
+            }
+            if let Some(Primitive::Glass {
+                transmissivity,
+                index,
+            }) = scene.material_of(i).map(|m| &scene.objects[m].kind)
+            {
+                glass_tn = transmissivity.iter().sum::<f64>() / transmissivity.len().max(1) as f64;
+                glass_index = index.unwrap_or(1.52);
+            }
+            // Newell normal and area.
+            let mut n = [0.0; 3];
+            let mut c = [0.0; 3];
+            for (k, a) in vertices.iter().enumerate() {
+                let b = vertices[(k + 1) % vertices.len()];
+                n[0] += (a[1] - b[1]) * (a[2] + b[2]);
+                n[1] += (a[2] - b[2]) * (a[0] + b[0]);
+                n[2] += (a[0] - b[0]) * (a[1] + b[1]);
+                for j in 0..3 {
+                    c[j] += a[j] / vertices.len() as f64;
+                }
+            }
+            let area = 0.5 * dot(n, n).sqrt();
+            let h = (n[0] * n[0] + n[1] * n[1]).sqrt();
+            if h < 1e-9 {
+                continue; // skylights: not handled by the overhang geometry
+            }
+            let mut out = [n[0] / h, n[1] / h, 0.0];
+            if dot(sub(c, inside), out) < 0.0 {
+                out = [-out[0], -out[1], 0.0];
+            }
+            let tangent = [-out[1], out[0], 0.0];
+            let zs = vertices.iter().map(|v| v[2]);
+            let sill = zs.clone().fold(f64::INFINITY, f64::min);
+            let head = zs.fold(f64::NEG_INFINITY, f64::max);
+            let ts: Vec<f64> = vertices.iter().map(|v| dot(*v, tangent)).collect();
+            let span = (
+                ts.iter().copied().fold(f64::INFINITY, f64::min),
+                ts.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+            );
+            windows.push(Window {
+                id: obj.id.clone(),
+                centroid: c,
+                outward: out,
+                sill,
+                head,
+                area,
+                span,
+                tangent,
+            });
+        }
+        let mut materials = Vec::new();
+        for o in &scene.objects {
+            if !matches!(
+                o.kind,
+                Primitive::Plastic { .. } | Primitive::Metal { .. } | Primitive::Trans { .. }
+            ) {
+                continue;
+            }
+            let class = mapping
+                .iter()
+                .find(|(m, _)| *m == o.id)
+                .map(|(_, c)| *c)
+                .or_else(|| SurfaceClass::from_keyword(&o.id));
+            if let Some(c) = class {
+                if !materials.iter().any(|(m, _): &(String, _)| *m == o.id) {
+                    materials.push((o.id.clone(), c));
+                }
+            }
+        }
+        Room {
+            windows,
+            materials,
+            glass_tn,
+            glass_index,
+        }
+    }
+
+    /// Classes that have at least one material.
+    pub fn classes(&self) -> Vec<SurfaceClass> {
+        let mut c: Vec<SurfaceClass> = self.materials.iter().map(|m| m.1).collect();
+        c.sort();
+        c.dedup();
+        c
+    }
+
+    /// Distance of `p` from the nearest window wall (metres into the room).
+    pub fn depth(&self, p: [f64; 3]) -> f64 {
+        self.windows
+            .iter()
+            .map(|w| w.depth_of(p).abs())
+            .fold(f64::INFINITY, f64::min)
+    }
+}
+
+/// A copy of `scene` with the diffuse colour of every material of `class` times `k`
+/// (capped at 0.95) and glass transmissivity times `tau` (capped at 1).
+pub fn scaled_scene(
+    scene: &Scene,
+    room: &Room,
+    class_scales: &[(SurfaceClass, f64)],
+    tau: f64,
+) -> Scene {
+    let mut s = scene.clone();
+    for o in &mut s.objects {
+        let class = room.materials.iter().find(|m| m.0 == o.id).map(|m| m.1);
+        let k = class
+            .and_then(|c| class_scales.iter().find(|x| x.0 == c))
+            .map(|x| x.1);
+        match &mut o.kind {
+            Primitive::Plastic { color, .. }
+            | Primitive::Metal { color, .. }
+            | Primitive::Trans { color, .. } => {
+                if let Some(k) = k {
+                    color
+                        .iter_mut()
+                        .for_each(|c| *c = (*c * k).clamp(0.0, 0.95));
+                }
+            }
+            Primitive::Glass { transmissivity, .. } if tau != 1.0 => {
+                transmissivity
+                    .iter_mut()
+                    .for_each(|t| *t = (*t * tau).clamp(0.0, 1.0));
+            }
+            _ => {}
+        }
+    }
+    s
+}

@@ -1,0 +1,115 @@
+//! # From files to a [`Model`]: the steps every `rcalib` command shares
+//!
+//! Load the scene, sensors, weather and readings; bind readings to sensors and weather steps;
+//! compute the skies of the measured steps only; trace (or fetch from the cache) the
+//! coefficients; find the windows and surface classes; build the model with its
+//! reflectance sensitivities.
+
+use super::inputs::load_sensors;
+use super::measurements::{Bound, Measurements};
+use super::model::Model;
+use super::room::{Room, SurfaceClass, sensor_centroid};
+use super::simulate::{Settings, Tracer, step_skies, subset_wea};
+use crate::error::{Error, Result};
+use crate::formats::sensors::Sensor;
+use crate::formats::weather::Weather;
+use crate::scene::{self, LoadOptions, Scene};
+use std::path::PathBuf;
+
+/// How to simulate.
+#[derive(Debug, Clone)]
+pub struct Options {
+    pub settings: Settings,
+    pub cache: Option<PathBuf>,
+    pub classes: Vec<(String, SurfaceClass)>,
+    /// Re-trace reflectance sensitivities (explain needs them; compare does not).
+    pub reflectance: bool,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Options {
+            settings: Settings::model(),
+            cache: None,
+            classes: Vec::new(),
+            reflectance: false,
+        }
+    }
+}
+
+/// Build a model from in-memory inputs. `readings` hold weather step indices.
+pub fn build(
+    scene: &Scene,
+    sensors: Vec<Sensor>,
+    weather: &Weather,
+    readings: &[Bound],
+    opts: &Options,
+) -> Result<Model> {
+    if sensors.is_empty() {
+        return Err(Error::Usage("no sensors".into()));
+    }
+    let mut idx: Vec<usize> = readings.iter().map(|b| b.step).collect();
+    idx.sort_unstable();
+    idx.dedup();
+    let obs: Vec<Bound> = readings
+        .iter()
+        .map(|b| Bound {
+            step: idx.binary_search(&b.step).unwrap_or(0),
+            ..*b
+        })
+        .collect();
+    let skies = step_skies(weather, &idx, opts.settings.mf);
+    let tracer = Tracer::new(
+        opts.settings.clone(),
+        opts.cache.clone(),
+        &sensors,
+        subset_wea(weather, &idx),
+        &skies,
+    )?;
+    let dcs = tracer.dcs(scene)?;
+    let room = Room::new(scene, sensor_centroid(&sensors), &opts.classes);
+    Model::build(
+        &tracer,
+        scene,
+        room,
+        sensors,
+        skies,
+        &dcs,
+        obs,
+        opts.reflectance,
+    )
+}
+
+/// Everything read from files.
+pub struct Loaded {
+    pub scene: Scene,
+    pub sensors: Vec<Sensor>,
+    pub weather: Weather,
+    pub readings: Vec<Bound>,
+}
+
+/// Read the inputs (scene files, sensors, weather, measurements) and bind the readings.
+pub fn load(
+    scene_files: &[String],
+    sensors: &str,
+    weather: &str,
+    measured: &str,
+) -> Result<Loaded> {
+    let scene = scene::load(scene_files, &LoadOptions::from_env())?;
+    let sensors = load_sensors(sensors)?;
+    let w = Weather::read_path(weather)?;
+    let m = Measurements::read_path(measured)?;
+    let ids: Vec<String> = sensors.iter().map(|s| s.id.clone()).collect();
+    let steps: Vec<(u32, u32, f64)> = w
+        .steps
+        .iter()
+        .map(|s| (u32::from(s.month), u32::from(s.day), s.hour))
+        .collect();
+    let readings = m.bind(&ids, &steps, weather)?;
+    Ok(Loaded {
+        scene,
+        sensors,
+        weather: w,
+        readings,
+    })
+}

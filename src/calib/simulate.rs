@@ -1,0 +1,441 @@
+//! # Simulating the measured time steps through daylight coefficients
+//!
+//! Illuminance at sensor `s` and time step `t` is computed the way Radiance's five-phase
+//! method does (Subramaniam, *Daylighting simulations with Radiance using matrix-based
+//! methods*, LBNL 2017, ch. 5; radiance-notes 6.6), with `rdc` standing in for rcontrib:
+//!
+//! ```text
+//! E(s,t) = DC(s)·sky(t)  +  [Vsun(s,t) - Cds(s,t)] L_sun(t)  +  Cds(s,t) L_sun(t)
+//! ```
+//!
+//! - `DC`: sky coefficients (`rdc -I -m MF`), all bounces; `DCd`: direct-only ones
+//!   (`--direct`, used by the effects that block direct light); `Cds`: the sun of each
+//!   measured step as a disc (`--suns steps.wea`, direct only, deterministic).
+//! - `Vsun`: the light of a unit-radiance sun disc at that step's position with all bounces
+//!   (an `rdc -I` point-in-time run on the scene plus a `source`, `-dj 0`): the five-phase
+//!   method's sun coefficients with inter-reflection. Spreading the sun over sky patches
+//!   and subtracting direct-only from total coefficients instead (the DDS shortcut) leaves
+//!   the Monte Carlo noise of a few samples per patch in the sun term: tens of percent.
+//! - `sky(t)`: the gendaymtx Perez sky without the sun (ground patch with reflectance 0.2);
+//!   `L_sun`: the radiance of a 0.533 degree disc (gendaymtx -5).
+//! - RGB irradiance to lux: 179 x (0.265 R + 0.670 G + 0.065 B) (`rmtxop -c 47.4 119.9 11.6`).
+//!
+//! The per-patch terms are kept apart ([`Components`]) because the effects of
+//! [`super::effects`] act on them: an exterior obstruction blocks sky patches and suns, an
+//! overhang blocks the direct part per sensor, a reflectance change alters `DC` and `Vsun`.
+//! Coefficients are cached on disk ([`super::cache`]): a re-run traces nothing.
+
+use super::cache;
+use super::room::{Room, SurfaceClass, scaled_scene};
+use crate::error::{Error, Result};
+use crate::formats::sensors::Sensor;
+use crate::formats::weather::Weather;
+use crate::radiometry::{RGB_PHOTOPIC_ROUNDED, WHITE_EFFICACY};
+use crate::rdc::Options;
+use crate::rdc::options::radiance_args;
+use crate::rdc::run::Prepared;
+use crate::scene::Scene;
+use crate::sky::matrix::{radiance_site, time_steps};
+use crate::sky::perez::{
+    GENDAYMTX_GROUND_REFLECTANCE, GENDAYMTX_SKY_COLOUR, PerezOptions, perez_sky_vector,
+};
+use crate::sky::{SkyPatches, solar::SunPosition};
+use clap::Parser;
+use std::path::PathBuf;
+
+/// Lux per unit RGB irradiance (W/m2 per channel).
+pub const LUX_RGB: [f64; 3] = [
+    WHITE_EFFICACY * RGB_PHOTOPIC_ROUNDED[0],
+    WHITE_EFFICACY * RGB_PHOTOPIC_ROUNDED[1],
+    WHITE_EFFICACY * RGB_PHOTOPIC_ROUNDED[2],
+];
+
+/// Sampling settings of the coefficient runs (Radiance's letters).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Settings {
+    pub ab: u32,
+    pub ad: usize,
+    pub lw: f64,
+    /// Reinhart subdivision of the sky patches (1 = Tregenza, 146 columns).
+    pub mf: usize,
+    pub seed: u64,
+}
+
+impl Settings {
+    /// The default for the model under calibration (-ab 5 -ad 2048 -lw 1e-4 -m 1): enough
+    /// bounces that deep sensors are not biased low (-ab 3 is about 10 % low in side-lit
+    /// rooms, BENCHMARKING.md, which explain would read as too-dark surfaces), few samples;
+    /// with the cache, re-runs are instant.
+    pub fn model() -> Settings {
+        Settings {
+            ab: 5,
+            ad: 2048,
+            lw: 1e-4,
+            mf: 1,
+            seed: 1,
+        }
+    }
+    /// Settings for synthetic "truth" measurements (-ab 6 -ad 4096 -lw 1e-5, another seed).
+    pub fn truth() -> Settings {
+        Settings {
+            ab: 6,
+            ad: 4096,
+            lw: 1e-5,
+            mf: 1,
+            seed: 7,
+        }
+    }
+    fn args(&self) -> Vec<String> {
+        [
+            "-ab".to_string(),
+            self.ab.to_string(),
+            "-ad".into(),
+            self.ad.to_string(),
+            "-lw".into(),
+            self.lw.to_string(),
+            "-s".into(),
+            self.seed.to_string(),
+        ]
+        .to_vec()
+    }
+}
+
+/// The sky of one measured time step.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StepSky {
+    pub month: u32,
+    pub day: u32,
+    pub hour: f64,
+    /// Sky and ground radiance per patch, `npatch * 3` (no sun).
+    pub sky: Vec<f64>,
+    /// Radiance of the sun disc (gendaymtx -5 0.533), 0 when down.
+    pub sun_radiance: f64,
+    pub sun_altitude_deg: f64,
+    /// Degrees east of north.
+    pub sun_azimuth_deg: f64,
+    /// Unit vector to the sun.
+    pub sun_dir: [f64; 3],
+    /// Perez sky clearness epsilon (1 overcast .. 11.9 clear; 0 at night).
+    pub clearness: f64,
+    pub dni: f64,
+    pub dhi: f64,
+}
+
+/// Skies of the weather steps `idx` at Reinhart subdivision `mf`.
+pub fn step_skies(w: &Weather, idx: &[usize], mf: usize) -> Vec<StepSky> {
+    let patches = SkyPatches::new(mf);
+    let steps = time_steps(w);
+    let site = radiance_site(w);
+    let smear = PerezOptions::default();
+    let disc = PerezOptions {
+        five_phase_sun_deg: Some(0.533),
+        ..PerezOptions::default()
+    };
+    let zero = [0.0; 3];
+    idx.iter()
+        .filter_map(|&i| steps.get(i))
+        .map(|st| {
+            let v = perez_sky_vector(&patches, st, &site, &smear);
+            let v5 = perez_sky_vector(&patches, st, &site, &disc);
+            let pos = SunPosition::at(&site, st.jd, st.hour);
+            StepSky {
+                month: st.month,
+                day: st.day,
+                hour: st.hour,
+                sky: v.to_channels(&GENDAYMTX_SKY_COLOUR, &GENDAYMTX_GROUND_REFLECTANCE, &zero),
+                sun_radiance: v5.sun.first().map_or(0.0, |s| s.1),
+                sun_altitude_deg: pos.altitude.to_degrees(),
+                sun_azimuth_deg: pos
+                    .azimuth_east_of_north(0.0)
+                    .to_degrees()
+                    .rem_euclid(360.0),
+                sun_dir: pos.direction(),
+                clearness: v.state.map_or(0.0, |s| s.epsilon),
+                dni: st.direct,
+                dhi: st.diffuse,
+            }
+        })
+        .collect()
+}
+
+/// A `.wea` holding only the steps `idx` of `w` (for `rdc --suns`).
+pub fn subset_wea(w: &Weather, idx: &[usize]) -> String {
+    let sub = Weather {
+        site: w.site.clone(),
+        units: w.units,
+        steps: idx
+            .iter()
+            .filter_map(|&i| w.steps.get(i).cloned())
+            .collect(),
+        epw_text: None,
+    };
+    sub.to_wea(false)
+}
+
+/// Daylight coefficients of one scene for the sensors and measured steps.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Dcs {
+    pub nsens: usize,
+    pub npatch: usize,
+    pub nsteps: usize,
+    /// `[s][p][c]` all bounces.
+    pub total: Vec<f64>,
+    /// `[s][p][c]` direct only.
+    pub direct: Vec<f64>,
+    /// `[s][t][c]` sun discs of the measured steps (direct).
+    pub sun: Vec<f64>,
+    /// `[s][t][c]` the same suns with all bounces.
+    pub sun_total: Vec<f64>,
+}
+
+/// Runs `rdc` (in memory, through [`Prepared`]) with a disk cache.
+pub struct Tracer {
+    pub settings: Settings,
+    pub cache: Option<PathBuf>,
+    /// Where scene texts are written for tracing (the cache, or a private temp dir).
+    work: PathBuf,
+    own_work: bool,
+    sensors_text: String,
+    rays: Vec<crate::formats::sensors::Ray>,
+    /// `.wea` of the measured steps.
+    suns_wea: String,
+    nsteps: usize,
+    /// Unit vectors to the sun of each measured step (`None` while it is down).
+    sun_dirs: Vec<Option<[f64; 3]>>,
+}
+
+impl Drop for Tracer {
+    fn drop(&mut self) {
+        if self.own_work {
+            let _ = std::fs::remove_dir_all(&self.work);
+        }
+    }
+}
+
+impl Tracer {
+    pub fn new(
+        settings: Settings,
+        cache: Option<PathBuf>,
+        sensors: &[Sensor],
+        suns_wea: String,
+        skies: &[StepSky],
+    ) -> Result<Tracer> {
+        let nsteps = skies.len();
+        let sun_dirs = skies
+            .iter()
+            .map(|s| (s.sun_altitude_deg > 0.0 && s.sun_radiance > 0.0).then_some(s.sun_dir))
+            .collect();
+        let (work, own_work) = match &cache {
+            Some(c) => (c.clone(), false),
+            None => {
+                let n = cache::key(&[suns_wea.as_bytes(), &std::process::id().to_le_bytes()]);
+                (std::env::temp_dir().join(format!("rcalib-{n:016x}")), true)
+            }
+        };
+        std::fs::create_dir_all(&work).map_err(|e| Error::io(work.display().to_string(), e))?;
+        let sensors_text: String = sensors
+            .iter()
+            .map(|s| format!("{:?} {:?}\n", s.ray.org, s.ray.dir))
+            .collect();
+        Ok(Tracer {
+            settings,
+            cache,
+            work,
+            own_work,
+            sensors_text,
+            rays: sensors.iter().map(|s| s.ray).collect(),
+            suns_wea,
+            nsteps,
+            sun_dirs,
+        })
+    }
+
+    fn run(&self, scene_text: &str, kind: &[&str]) -> Result<Vec<f64>> {
+        let settings = format!("{:?}", self.settings);
+        let kinds = kind.join(" ");
+        let suns = if kind.contains(&"--suns") {
+            self.suns_wea.as_str()
+        } else {
+            ""
+        };
+        let key = cache::key(&[
+            scene_text.as_bytes(),
+            self.sensors_text.as_bytes(),
+            settings.as_bytes(),
+            kinds.as_bytes(),
+            suns.as_bytes(),
+        ]);
+        if let Some(c) = &self.cache {
+            if let Some(v) = cache::load(c, key) {
+                return Ok(v);
+            }
+        }
+        let scene_path = self.work.join(format!("scene-{key:016x}.rad"));
+        std::fs::write(&scene_path, scene_text)
+            .map_err(|e| Error::io(scene_path.display().to_string(), e))?;
+        let mut args = vec!["rdc".to_string(), "-I".to_string()];
+        args.extend(self.settings.args());
+        let mut wea_path = None;
+        for k in kind {
+            if *k == "SUNS" {
+                let p = self.work.join(format!("suns-{key:016x}.wea"));
+                std::fs::write(&p, &self.suns_wea)
+                    .map_err(|e| Error::io(p.display().to_string(), e))?;
+                args.push(p.display().to_string());
+                wea_path = Some(p);
+            } else {
+                args.push(k.to_string());
+            }
+        }
+        args.push(scene_path.display().to_string());
+        let opts = Options::try_parse_from(radiance_args(&args))
+            .map_err(|e| Error::Usage(format!("rdc options: {e}")))?;
+        let result = Prepared::new(&opts, false).and_then(|p| p.compute(&self.rays, true));
+        let _ = std::fs::remove_file(&scene_path);
+        if let Some(p) = wea_path {
+            let _ = std::fs::remove_file(p);
+        }
+        let rows = result?;
+        let values: Vec<f64> = rows.into_iter().flat_map(|r| r.values).collect();
+        if let Some(c) = &self.cache {
+            cache::store(c, key, &values);
+        }
+        Ok(values)
+    }
+
+    /// All three coefficient sets of a scene.
+    pub fn dcs(&self, scene: &Scene) -> Result<Dcs> {
+        let text = scene.to_string();
+        let mf = self.settings.mf.to_string();
+        let total = self.run(&text, &["-m", &mf])?;
+        let direct = self.run(&text, &["-m", &mf, "--direct"])?;
+        let sun = self.run(&text, &["--suns", "SUNS"])?;
+        let sun_total = self.sun_total(&text)?;
+        let nsens = self.rays.len();
+        let npatch = SkyPatches::new(self.settings.mf).len();
+        if total.len() != nsens * npatch * 3 || sun.len() != nsens * self.nsteps * 3 {
+            return Err(Error::Mismatch(format!(
+                "rdc returned {} sky and {} sun values for {nsens} sensors, {npatch} patches \
+                 and {} steps",
+                total.len(),
+                sun.len(),
+                self.nsteps
+            )));
+        }
+        Ok(Dcs {
+            nsens,
+            npatch,
+            nsteps: self.nsteps,
+            total,
+            direct,
+            sun,
+            sun_total,
+        })
+    }
+
+    /// `Vsun`: per step, the scene plus a unit-radiance sun `source` at the step's position,
+    /// point-in-time irradiance with all bounces (`-dj 0`: the disc's centre, as `Cds`).
+    fn sun_total(&self, text: &str) -> Result<Vec<f64>> {
+        let ns = self.rays.len();
+        let mut out = vec![0.0; ns * self.nsteps * 3];
+        for (t, dir) in self.sun_dirs.iter().enumerate() {
+            let Some(d) = dir else { continue };
+            // Radiance 1e4 keeps the single-precision colours far from underflow.
+            let scene = format!(
+                "{text}\nvoid light rcalib_sun_mat 0 0 3 1e4 1e4 1e4\n\
+                 rcalib_sun_mat source rcalib_sun 0 0 4 {} {} {} 0.533\n",
+                d[0], d[1], d[2]
+            );
+            let v = self.run(&scene, &["-dj", "0"])?;
+            if v.len() != ns * 3 {
+                return Err(Error::Mismatch(format!(
+                    "rdc returned {} values for {ns} sensors",
+                    v.len()
+                )));
+            }
+            for s in 0..ns {
+                for c in 0..3 {
+                    out[(s * self.nsteps + t) * 3 + c] = v[s * 3 + c] * 1e-4;
+                }
+            }
+        }
+        Ok(out)
+    }
+
+    /// Sky coefficients (all bounces) of `scene` with the reflectance of `class` times `k`.
+    pub fn dc_scaled(
+        &self,
+        scene: &Scene,
+        room: &Room,
+        class: SurfaceClass,
+        k: f64,
+    ) -> Result<Vec<f64>> {
+        let s = scaled_scene(scene, room, &[(class, k)], 1.0).to_string();
+        self.run(&s, &["-m", &self.settings.mf.to_string()])
+    }
+}
+
+fn lux(v: &[f64]) -> f64 {
+    v.iter().zip(LUX_RGB).map(|(a, b)| a * b).sum()
+}
+
+/// The light at every (sensor, step), split into what the effects act on; all in lux.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Components {
+    pub nsens: usize,
+    pub nsteps: usize,
+    pub npatch: usize,
+    /// `[s][t][p]` sky patch p through all bounces.
+    pub sky: Vec<f64>,
+    /// `[s][t][p]` sky patch p seen directly.
+    pub sky_direct: Vec<f64>,
+    /// `[s][t]` inter-reflected sun.
+    pub sun_indirect: Vec<f64>,
+    /// `[s][t]` direct sun.
+    pub sun_direct: Vec<f64>,
+}
+
+impl Components {
+    /// Combine coefficients and skies.
+    pub fn new(d: &Dcs, skies: &[StepSky]) -> Components {
+        let (ns, nt, np) = (d.nsens, skies.len(), d.npatch);
+        let mut c = Components {
+            nsens: ns,
+            nsteps: nt,
+            npatch: np,
+            sky: vec![0.0; ns * nt * np],
+            sky_direct: vec![0.0; ns * nt * np],
+            sun_indirect: vec![0.0; ns * nt],
+            sun_direct: vec![0.0; ns * nt],
+        };
+        for s in 0..ns {
+            for (t, sk) in skies.iter().enumerate() {
+                let base = (s * nt + t) * np;
+                for p in 0..np {
+                    let dc = &d.total[(s * np + p) * 3..][..3];
+                    let dd = &d.direct[(s * np + p) * 3..][..3];
+                    let sky = &sk.sky[p * 3..][..3];
+                    c.sky[base + p] = lux(&[dc[0] * sky[0], dc[1] * sky[1], dc[2] * sky[2]]);
+                    c.sky_direct[base + p] = lux(&[dd[0] * sky[0], dd[1] * sky[1], dd[2] * sky[2]]);
+                }
+                let cs = lux(&d.sun[(s * nt + t) * 3..][..3]);
+                let vs = lux(&d.sun_total[(s * nt + t) * 3..][..3]);
+                c.sun_indirect[s * nt + t] = (vs - cs).max(0.0) * sk.sun_radiance;
+                c.sun_direct[s * nt + t] = cs * sk.sun_radiance;
+            }
+        }
+        c
+    }
+
+    /// Illuminance of every (sensor, step) with nothing changed.
+    pub fn total(&self) -> Vec<f64> {
+        let np = self.npatch;
+        (0..self.nsens * self.nsteps)
+            .map(|i| {
+                self.sky[i * np..(i + 1) * np].iter().sum::<f64>()
+                    + self.sun_indirect[i]
+                    + self.sun_direct[i]
+            })
+            .collect()
+    }
+}
