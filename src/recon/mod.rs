@@ -4,11 +4,19 @@
 //! | module | concept |
 //! |---|---|
 //! | [`cloud`] | [`PointCloud`], bounds, the empty / non-finite / unit checks |
+//! | [`model`] | shell faces + openings -> hole-free polygons, reveals, glazing; watertightness |
+//! | [`radout`] | polygons -> `.rad` with the seed's default materials (or a materials file) |
+//! | [`rooms`] | the known test rooms (rect, L, slanted, arched, cluttered) |
+//! | [`simulate`] | laser scanner simulator (stations, resolution, range noise, glass) |
 //! | [`ply`], [`xyz`], [`input`] | point cloud files (nom parsers, errors with line or byte offset) |
 
 pub mod cloud;
 pub mod input;
+pub mod model;
 pub mod ply;
+pub mod radout;
+pub mod rooms;
+pub mod simulate;
 pub mod xyz;
 
 pub use cloud::{Bounds, PointCloud};
