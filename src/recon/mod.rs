@@ -5,6 +5,8 @@
 //! |---|---|
 //! | [`cloud`] | [`PointCloud`], bounds, the empty / non-finite / unit checks |
 //! | [`model`] | shell faces + openings -> hole-free polygons, reveals, glazing; watertightness |
+//! | [`preprocess`] | crop, voxel down-sampling, outlier removal, PCA normals (k-d tree) |
+//! | [`ransac`] | efficient RANSAC planes (Schnabel et al. 2007; seed Table 4.2 defaults) |
 //! | [`radout`] | polygons -> `.rad` with the seed's default materials (or a materials file) |
 //! | [`rooms`] | the known test rooms (rect, L, slanted, arched, cluttered) |
 //! | [`simulate`] | laser scanner simulator (stations, resolution, range noise, glass) |
@@ -14,7 +16,9 @@ pub mod cloud;
 pub mod input;
 pub mod model;
 pub mod ply;
+pub mod preprocess;
 pub mod radout;
+pub mod ransac;
 pub mod rooms;
 pub mod simulate;
 pub mod xyz;
