@@ -26,7 +26,7 @@ pub struct PointCloud {
 }
 
 /// Axis-aligned bounds.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct Bounds {
     pub lo: [f64; 3],
     pub hi: [f64; 3],

@@ -3,25 +3,38 @@
 //!
 //! | module | concept |
 //! |---|---|
+//! | [`arrangement`] | convex cells and facets of the plane arrangement (PolyFit hypotheses) |
 //! | [`cloud`] | [`PointCloud`], bounds, the empty / non-finite / unit checks |
+//! | [`eval`] | Chamfer / Hausdorff to a known model, window errors |
+//! | [`mincut`] | exact binary labelling by s-t min cut (Kolmogorov & Zabih 2004) |
 //! | [`model`] | shell faces + openings -> hole-free polygons, reveals, glazing; watertightness |
 //! | [`preprocess`] | crop, voxel down-sampling, outlier removal, PCA normals (k-d tree) |
 //! | [`ransac`] | efficient RANSAC planes (Schnabel et al. 2007; seed Table 4.2 defaults) |
 //! | [`radout`] | polygons -> `.rad` with the seed's default materials (or a materials file) |
 //! | [`rooms`] | the known test rooms (rect, L, slanted, arched, cluttered) |
+//! | [`shell`] | watertight shell: inside/outside cells by exact min cut, facets merged per plane |
 //! | [`simulate`] | laser scanner simulator (stations, resolution, range noise, glass) |
+//! | [`openings`] | window candidates (Delaunay holes), ranking, regularised outlines |
+//! | [`pipeline`] | the whole run with timings: [`reconstruct`] |
 //! | [`ply`], [`xyz`], [`input`] | point cloud files (nom parsers, errors with line or byte offset) |
 
+pub mod arrangement;
 pub mod cloud;
+pub mod eval;
 pub mod input;
+pub mod mincut;
 pub mod model;
+pub mod openings;
+pub mod pipeline;
 pub mod ply;
 pub mod preprocess;
 pub mod radout;
 pub mod ransac;
 pub mod rooms;
+pub mod shell;
 pub mod simulate;
 pub mod xyz;
 
 pub use cloud::{Bounds, PointCloud};
 pub use input::read_cloud;
+pub use pipeline::{ReconParams, Reconstruction, reconstruct};

@@ -20,7 +20,7 @@ use crate::geometry::triangulate::newell_normal;
 use crate::geometry::{Vec3, polygon_area};
 
 /// What a face is, for names and materials.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum FaceKind {
     Floor,
@@ -347,30 +347,50 @@ impl Watertight {
     }
 }
 
-/// Count edge uses (see [`Watertight`]); polygons should have had [`fix_t_junctions`].
-pub fn watertight(polys: &[NamedPolygon], tol: f64) -> Watertight {
-    use std::collections::HashMap;
-    let mut ids: HashMap<[i64; 3], usize> = HashMap::new();
-    let mut reps: Vec<Vec3> = Vec::new();
-    let mut id_of = |v: Vec3| -> usize {
-        let key = [v.x, v.y, v.z].map(|c| (c / tol).round() as i64);
+/// Vertex welding: points closer than `tol` get one id.
+pub struct Welder {
+    tol: f64,
+    ids: std::collections::HashMap<[i64; 3], usize>,
+    reps: Vec<Vec3>,
+}
+
+impl Welder {
+    pub fn new(tol: f64) -> Welder {
+        Welder {
+            tol,
+            ids: Default::default(),
+            reps: vec![],
+        }
+    }
+    pub fn id(&mut self, v: Vec3) -> usize {
+        let key = [v.x, v.y, v.z].map(|c| (c / self.tol).round() as i64);
         // Look in the neighbouring cells too so that points straddling a cell edge weld.
         for dx in -1..=1 {
             for dy in -1..=1 {
                 for dz in -1..=1 {
                     let k = [key[0] + dx, key[1] + dy, key[2] + dz];
-                    if let Some(&i) = ids.get(&k)
-                        && (reps[i] - v).length() < tol
+                    if let Some(&i) = self.ids.get(&k)
+                        && (self.reps[i] - v).length() < self.tol
                     {
                         return i;
                     }
                 }
             }
         }
-        reps.push(v);
-        ids.insert(key, reps.len() - 1);
-        reps.len() - 1
-    };
+        self.reps.push(v);
+        self.ids.insert(key, self.reps.len() - 1);
+        self.reps.len() - 1
+    }
+    pub fn point(&self, id: usize) -> Vec3 {
+        self.reps[id]
+    }
+}
+
+/// Count edge uses (see [`Watertight`]); polygons should have had [`fix_t_junctions`].
+pub fn watertight(polys: &[NamedPolygon], tol: f64) -> Watertight {
+    use std::collections::HashMap;
+    let mut welder = Welder::new(tol);
+    let mut id_of = |v: Vec3| welder.id(v);
     let mut count: HashMap<(usize, usize), (usize, usize)> = HashMap::new();
     for p in polys {
         let idx: Vec<usize> = p.vertices.iter().map(|&v| id_of(v)).collect();

@@ -79,8 +79,8 @@ pub fn voxel_downsample(cloud: &mut PointCloud, target: usize) -> Option<f64> {
             (0, [0.0; 3], i)
         });
         e.0 += 1;
-        for k in 0..3 {
-            e.1[k] += p[k];
+        for (acc, v) in e.1.iter_mut().zip(p) {
+            *acc += v;
         }
     }
     let first: Vec<usize> = order.iter().map(|k| cells[k].2).collect();
