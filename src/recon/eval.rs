@@ -122,8 +122,24 @@ fn distances(points: &[Vec3], tris: &[Tri]) -> Vec<f64> {
         .collect()
 }
 
+/// Area centroid of a planar polygon (its triangles' centroids weighted by area).
 fn centroid(v: &[Vec3]) -> Vec3 {
-    v.iter().fold(Vec3::ZERO, |a, &b| a + b) / v.len().max(1) as f64
+    let tris = triangles(&[NamedPolygon {
+        name: String::new(),
+        role: Role::Glazing,
+        vertices: v.to_vec(),
+    }]);
+    let (mut c, mut a) = (Vec3::ZERO, 0.0);
+    for t in tris {
+        let w = 0.5 * (t[1] - t[0]).cross(t[2] - t[0]).length();
+        c += (t[0] + t[1] + t[2]) * (w / 3.0);
+        a += w;
+    }
+    if a > 0.0 {
+        c / a
+    } else {
+        v.iter().fold(Vec3::ZERO, |s, &b| s + b) / v.len().max(1) as f64
+    }
 }
 
 /// Compare `found` with `truth` using `samples` points per surface.

@@ -11,11 +11,13 @@
 //! | [`preprocess`] | crop, voxel down-sampling, outlier removal, PCA normals (k-d tree) |
 //! | [`ransac`] | efficient RANSAC planes (Schnabel et al. 2007; seed Table 4.2 defaults) |
 //! | [`radout`] | polygons -> `.rad` with the seed's default materials (or a materials file) |
+//! | [`review`] | SVG per wall with numbered candidates for `--windows` |
 //! | [`rooms`] | the known test rooms (rect, L, slanted, arched, cluttered) |
 //! | [`shell`] | watertight shell: inside/outside cells by exact min cut, facets merged per plane |
 //! | [`simulate`] | laser scanner simulator (stations, resolution, range noise, glass) |
 //! | [`openings`] | window candidates (Delaunay holes), ranking, regularised outlines |
 //! | [`pipeline`] | the whole run with timings: [`reconstruct`] |
+//! | [`summary`] | the JSON summary (planes, areas, WWR, WFR, timings, candidates) |
 //! | [`ply`], [`xyz`], [`input`] | point cloud files (nom parsers, errors with line or byte offset) |
 
 pub mod arrangement;
@@ -30,9 +32,11 @@ pub mod ply;
 pub mod preprocess;
 pub mod radout;
 pub mod ransac;
+pub mod review;
 pub mod rooms;
 pub mod shell;
 pub mod simulate;
+pub mod summary;
 pub mod xyz;
 
 pub use cloud::{Bounds, PointCloud};

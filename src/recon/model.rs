@@ -63,6 +63,8 @@ pub struct Opening {
     pub face: usize,
     pub name: String,
     pub outline: Vec<Vec3>,
+    /// Reveal depth of this opening (else the model's).
+    pub depth: Option<f64>,
 }
 
 /// A room: shell faces, openings, reveal depth.
@@ -245,11 +247,12 @@ impl Model {
                 });
             }
             for o in ops {
-                let back = fr.n * -self.reveal_depth;
+                let depth = o.depth.unwrap_or(self.reveal_depth);
+                let back = fr.n * -depth;
                 let n = o.outline.len();
                 // Reveal quads: edge, then the same edge pushed out; right-hand normal points
                 // into the opening for a counter-clockwise outline.
-                if self.reveal_depth > 0.0 {
+                if depth > 0.0 {
                     for k in 0..n {
                         let (p, q) = (o.outline[k], o.outline[(k + 1) % n]);
                         out.push(NamedPolygon {
@@ -506,6 +509,7 @@ mod tests {
                 face: 2,
                 name: format!("win{i}"),
                 outline: o,
+                depth: None,
             });
         }
         let mut polys = m.polygons();

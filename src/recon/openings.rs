@@ -15,6 +15,9 @@
 //! points up to 1.5 m in front). `--auto` takes candidates of at least `auto_min_area` with
 //! evidence behind and little in front.
 //!
+//! Reveal depth: the 98th percentile of the depths of the points behind the wall (within 1 m)
+//! around the candidate, i.e. where the reveal meets the frame.
+//!
 //! Regularisation: a region whose rectangularity is at least `rect_fit` becomes its bounding
 //! rectangle in the wall frame (u horizontal, v up); otherwise the seed's more robust
 //! symmetric prior: a polygon symmetric about the region's vertical mid-line whose half-width
@@ -54,7 +57,9 @@ impl Default for OpeningParams {
             min_area: 0.001,
             band: 0.03,
             auto_min_area: 0.15,
-            rect_fit: 0.85,
+            // Rectangles measure 0.96-0.99 on simulated scans at 4 cm spacing; a semicircular
+            // arch over a 1.2 x 1.1 m rectangle measures 0.92.
+            rect_fit: 0.94,
             levels: 16,
             margin: 0.02,
         }
@@ -76,6 +81,8 @@ pub struct Candidate {
     pub front: f64,
     pub score: f64,
     pub auto: bool,
+    /// Reveal depth measured from the points behind the wall around the candidate, metres.
+    pub depth: Option<f64>,
     /// Regularised outline in the wall frame, counter-clockwise.
     pub outline: Vec<[f64; 2]>,
     /// Region triangles (for the review picture).
@@ -194,7 +201,7 @@ pub fn detect_wall(
                 on.push(q);
             }
         } else if h < 0.0 {
-            behind.push(q);
+            behind.push([q[0], q[1], -h]);
         } else if h < 1.5 {
             front.push(q);
         }
@@ -289,10 +296,20 @@ pub fn detect_wall(
             0.0
         };
         let grow = 2.0 * spacing;
-        let inside = |q: &&[f64; 2]| {
+        let inside = |q: &&[f64; 3]| {
             q[0] > a[0] - grow && q[0] < b[0] + grow && q[1] > a[1] - grow && q[1] < b[1] + grow
         };
         let perim = 2.0 * ((b[0] - a[0]) + (b[1] - a[1]));
+        // Depth: the deepest reveal points (98th percentile of depths within 1 m).
+        let mut depths: Vec<f64> = behind
+            .iter()
+            .filter(inside)
+            .map(|q| q[2])
+            .filter(|&d| d <= 1.0)
+            .collect();
+        depths.sort_by(f64::total_cmp);
+        let depth =
+            (depths.len() >= 10).then(|| depths[(depths.len() * 98 / 100).min(depths.len() - 1)]);
         let n_behind = behind.iter().filter(inside).count() as f64;
         let n_front = front
             .iter()
@@ -318,6 +335,7 @@ pub fn detect_wall(
             front: front_score,
             score,
             auto,
+            depth,
             outline,
             triangles: tris,
         });
@@ -417,11 +435,12 @@ fn regularise(
 }
 
 /// The openings the selection asks for, as model openings.
+/// With `auto_depth`, each opening takes its candidate's measured reveal depth.
 pub fn choose(
     shell: &Shell,
     cands: &[Vec<Candidate>],
     sel: &Selection,
-    _p: &OpeningParams,
+    auto_depth: bool,
 ) -> Result<Vec<Opening>> {
     let mut out = Vec::new();
     let mut push = |fi: usize, c: &Candidate| {
@@ -444,6 +463,7 @@ pub fn choose(
                 face: fi,
                 name: format!("{}_window{}", f.name, c.id),
                 outline: c.outline.iter().map(|&q| fr.to_3d(q)).collect(),
+                depth: if auto_depth { c.depth } else { None },
             });
         }
     };

@@ -22,8 +22,10 @@ pub struct ReconParams {
     pub ransac: RansacParams,
     pub shell: ShellParams,
     pub openings: OpeningParams,
-    /// Reveal (wall thickness) depth, metres.
+    /// Reveal (wall thickness) depth, metres; per window from its reveal points when
+    /// `measure_depth` is set (this value is then the fallback).
     pub reveal_depth: f64,
+    pub measure_depth: bool,
 }
 
 impl Default for ReconParams {
@@ -38,6 +40,7 @@ impl Default for ReconParams {
             shell: ShellParams::default(),
             openings: OpeningParams::default(),
             reveal_depth: 0.2,
+            measure_depth: true,
         }
     }
 }
@@ -132,7 +135,7 @@ pub fn reconstruct(
     let candidates = openings::detect_all(&shell, &cloud, spacing, &op);
     let mut model = shell.model.clone();
     model.reveal_depth = p.reveal_depth;
-    model.openings = openings::choose(&shell, &candidates, select, &op)?;
+    model.openings = openings::choose(&shell, &candidates, select, p.measure_depth)?;
     let mut polys = model.polygons();
     fix_t_junctions(&mut polys, 1e-6);
     let wt = watertight(&polys, 1e-6);

@@ -216,6 +216,7 @@ impl RoomSpec {
                 face: 2 + w.edge,
                 name: format!("window{k}"),
                 outline,
+                depth: None,
             });
         }
         Model {
