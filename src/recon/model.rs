@@ -138,15 +138,19 @@ fn edge_y(e: (P2, P2), x: f64) -> f64 {
     p[1] + (q[1] - p[1]) * (x - p[0]) / (q[0] - p[0])
 }
 
+/// Breakpoints closer than this are one (metres): reconstructed walls are not exactly
+/// vertical in their own frame (their side edges are intersections of fitted planes), and
+/// strips thinner than this would only make slivers.
+const STRIP_TOL: f64 = 1e-3;
+
 /// Edges of `loops` spanning the strip `[a, b]`, sorted by height at its middle.
 fn spanning(loops: &[&[P2]], a: f64, b: f64) -> Vec<(P2, P2)> {
-    let tol = 1e-9 * (1.0 + a.abs().max(b.abs()));
     let mut out = Vec::new();
     for l in loops {
         for k in 0..l.len() {
             let (p, q) = (l[k], l[(k + 1) % l.len()]);
             let (lo, hi) = (p[0].min(q[0]), p[0].max(q[0]));
-            if hi - lo > tol && lo <= a + tol && hi >= b - tol {
+            if hi - lo > STRIP_TOL && lo <= a + STRIP_TOL && hi >= b - STRIP_TOL {
                 out.push((p, q));
             }
         }
@@ -156,17 +160,26 @@ fn spanning(loops: &[&[P2]], a: f64, b: f64) -> Vec<(P2, P2)> {
     out
 }
 
-/// `outer` minus `holes` (2-D, any orientation, holes inside `outer` and disjoint) as
-/// counter-clockwise trapezoids and triangles.
+/// `outer` minus `holes` (2-D, counter-clockwise, holes inside `outer` and disjoint) as
+/// counter-clockwise trapezoids and triangles. Vertices within [`STRIP_TOL`] of an input
+/// vertex are snapped to it, so that pieces meet their neighbours exactly.
 pub fn split_around(outer: &[P2], holes: &[Vec<P2>]) -> Vec<Vec<P2>> {
-    let mut xs: Vec<f64> = outer
+    let all: Vec<P2> = outer
         .iter()
         .chain(holes.iter().flatten())
-        .map(|p| p[0])
+        .copied()
         .collect();
+    let mut xs: Vec<f64> = all.iter().map(|p| p[0]).collect();
     xs.sort_by(f64::total_cmp);
-    xs.dedup_by(|a, b| (*a - *b).abs() < 1e-9);
+    xs.dedup_by(|a, b| (*a - *b).abs() < STRIP_TOL);
     let hole_loops: Vec<&[P2]> = holes.iter().map(|h| h.as_slice()).collect();
+    let snap = |q: P2| -> P2 {
+        all.iter()
+            .copied()
+            .filter(|v| dist2b(*v, q) < 4.0 * STRIP_TOL * STRIP_TOL)
+            .min_by(|x, y| dist2b(*x, q).total_cmp(&dist2b(*y, q)))
+            .unwrap_or(q)
+    };
     let mut pieces = Vec::new();
     for w in xs.windows(2) {
         let (a, b) = (w[0], w[1]);
@@ -187,24 +200,30 @@ pub fn split_around(outer: &[P2], holes: &[Vec<P2>]) -> Vec<Vec<P2>> {
             bounds.push(hi);
             for piece in bounds.chunks_exact(2) {
                 let (bot, top) = (piece[0], piece[1]);
-                let mut v = vec![
+                let mut v: Vec<P2> = [
                     [a, edge_y(bot, a)],
                     [b, edge_y(bot, b)],
                     [b, edge_y(top, b)],
                     [a, edge_y(top, a)],
-                ];
-                v.dedup_by(|p, q| (p[1] - q[1]).abs() < 1e-9 && p[0] == q[0]);
-                if v.len() > 1 && v[0] == v[v.len() - 1] {
+                ]
+                .into_iter()
+                .map(snap)
+                .collect();
+                v.dedup_by(|p, q| dist2b(*p, *q) < 1e-18);
+                while v.len() > 1 && dist2b(v[0], v[v.len() - 1]) < 1e-18 {
                     v.pop();
                 }
-                let area = shoelace(&v);
-                if v.len() >= 3 && area > 1e-10 {
+                if v.len() >= 3 && shoelace(&v) > 1e-10 {
                     pieces.push(v);
                 }
             }
         }
     }
     pieces
+}
+
+fn dist2b(a: P2, b: P2) -> f64 {
+    (a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2)
 }
 
 /// Signed area of a 2-D polygon (positive counter-clockwise).
@@ -526,5 +545,23 @@ mod tests {
         fix_t_junctions(&mut polys, 1e-6);
         let w = watertight(&polys, 1e-6);
         assert!(w.is_closed(), "{w:?}");
+    }
+
+    /// A fitted wall is not exactly vertical in its own frame: no slivers, corners exact
+    /// (regression: a 0.1 mm strip left a degenerate piece and a non-manifold edge).
+    #[test]
+    fn slightly_slanted_wall_sides_give_no_slivers() {
+        let outer = [[6e-5, 0.0], [4.0, 0.0], [4.00005, 2.7], [-5e-5, 2.7]];
+        let hole = vec![[1.0, 0.9], [2.4, 0.9], [2.4, 2.3], [1.0, 2.3]];
+        let pieces = split_around(&outer, &[hole]);
+        assert_eq!(pieces.len(), 4);
+        let area: f64 = pieces.iter().map(|p| shoelace(p)).sum();
+        assert!((area + 1.96 - shoelace(&outer)).abs() < 1e-9, "{area}");
+        for c in outer {
+            assert!(
+                pieces.iter().flatten().any(|q| *q == c),
+                "corner {c:?} kept exactly"
+            );
+        }
     }
 }
