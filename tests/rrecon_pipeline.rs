@@ -69,7 +69,10 @@ fn rectangular_room() {
     assert!(closed);
     assert_eq!((faces, windows), (6, 3));
     assert!(c.chamfer < 0.01 && c.hausdorff < 0.1, "{c:?}");
-    assert!(c.window_area_error.abs() < 0.1 && c.window_position_error < 0.05, "{c:?}");
+    assert!(
+        c.window_area_error.abs() < 0.1 && c.window_position_error < 0.05,
+        "{c:?}"
+    );
 }
 
 #[test]
@@ -78,7 +81,10 @@ fn l_shaped_room() {
     assert!(closed);
     assert_eq!((faces, windows), (8, 3));
     assert!(c.chamfer < 0.01 && c.hausdorff < 0.1, "{c:?}");
-    assert!(c.window_area_error.abs() < 0.1 && c.window_position_error < 0.05, "{c:?}");
+    assert!(
+        c.window_area_error.abs() < 0.1 && c.window_position_error < 0.05,
+        "{c:?}"
+    );
 }
 
 /// Non-orthogonal walls and a sloped ceiling.

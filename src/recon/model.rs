@@ -143,14 +143,15 @@ fn edge_y(e: (P2, P2), x: f64) -> f64 {
 /// strips thinner than this would only make slivers.
 const STRIP_TOL: f64 = 1e-3;
 
-/// Edges of `loops` spanning the strip `[a, b]`, sorted by height at its middle.
-fn spanning(loops: &[&[P2]], a: f64, b: f64) -> Vec<(P2, P2)> {
+/// Edges of `loops` spanning the strip `[a, b]` (an edge may fall short of a strip side by
+/// `tol`), sorted by height at its middle.
+fn spanning(loops: &[&[P2]], a: f64, b: f64, tol: f64) -> Vec<(P2, P2)> {
     let mut out = Vec::new();
     for l in loops {
         for k in 0..l.len() {
             let (p, q) = (l[k], l[(k + 1) % l.len()]);
             let (lo, hi) = (p[0].min(q[0]), p[0].max(q[0]));
-            if hi - lo > STRIP_TOL && lo <= a + STRIP_TOL && hi >= b - STRIP_TOL {
+            if hi - lo > tol && lo <= a + tol && hi >= b - tol {
                 out.push((p, q));
             }
         }
@@ -161,20 +162,27 @@ fn spanning(loops: &[&[P2]], a: f64, b: f64) -> Vec<(P2, P2)> {
 }
 
 /// `outer` minus `holes` (2-D, counter-clockwise, holes inside `outer` and disjoint) as
-/// counter-clockwise trapezoids and triangles. Vertices within [`STRIP_TOL`] of an input
-/// vertex are snapped to it, so that pieces meet their neighbours exactly.
+/// counter-clockwise trapezoids and triangles. The holes' abscissae are exact strip sides;
+/// the outer polygon's are dropped when within [`STRIP_TOL`] of another side, and piece
+/// corners near an outer vertex are snapped to it, so that pieces meet their neighbours
+/// exactly.
 pub fn split_around(outer: &[P2], holes: &[Vec<P2>]) -> Vec<Vec<P2>> {
-    let all: Vec<P2> = outer
-        .iter()
-        .chain(holes.iter().flatten())
-        .copied()
-        .collect();
-    let mut xs: Vec<f64> = all.iter().map(|p| p[0]).collect();
+    let exact = 1e-9;
+    let mut xs: Vec<f64> = holes.iter().flatten().map(|p| p[0]).collect();
     xs.sort_by(f64::total_cmp);
-    xs.dedup_by(|a, b| (*a - *b).abs() < STRIP_TOL);
+    xs.dedup_by(|a, b| (*a - *b).abs() < exact);
+    let mut outer_x: Vec<f64> = outer.iter().map(|p| p[0]).collect();
+    outer_x.sort_by(f64::total_cmp);
+    for x in outer_x {
+        if xs.iter().all(|v| (v - x).abs() >= STRIP_TOL) {
+            xs.push(x);
+        }
+    }
+    xs.sort_by(f64::total_cmp);
     let hole_loops: Vec<&[P2]> = holes.iter().map(|h| h.as_slice()).collect();
     let snap = |q: P2| -> P2 {
-        all.iter()
+        outer
+            .iter()
             .copied()
             .filter(|v| dist2b(*v, q) < 4.0 * STRIP_TOL * STRIP_TOL)
             .min_by(|x, y| dist2b(*x, q).total_cmp(&dist2b(*y, q)))
@@ -184,8 +192,8 @@ pub fn split_around(outer: &[P2], holes: &[Vec<P2>]) -> Vec<Vec<P2>> {
     for w in xs.windows(2) {
         let (a, b) = (w[0], w[1]);
         let m = 0.5 * (a + b);
-        let walls = spanning(&[outer], a, b);
-        let hs = spanning(&hole_loops, a, b);
+        let walls = spanning(&[outer], a, b, STRIP_TOL);
+        let hs = spanning(&hole_loops, a, b, exact);
         for pair in walls.chunks_exact(2) {
             let (lo, hi) = (pair[0], pair[1]);
             let (ylo, yhi) = (edge_y(lo, m), edge_y(hi, m));
@@ -213,7 +221,7 @@ pub fn split_around(outer: &[P2], holes: &[Vec<P2>]) -> Vec<Vec<P2>> {
                 while v.len() > 1 && dist2b(v[0], v[v.len() - 1]) < 1e-18 {
                     v.pop();
                 }
-                if v.len() >= 3 && shoelace(&v) > 1e-10 {
+                if v.len() >= 3 && shoelace(&v) > 1e-12 {
                     pieces.push(v);
                 }
             }
