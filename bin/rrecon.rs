@@ -45,7 +45,12 @@ enum Command {
     /// Simulate a terrestrial laser scan of a `.rad` room (binary PLY on stdout).
     Simulate(Simulate),
     /// Write a built-in test room (rect, lshape, slanted, arched, cluttered) as `.rad`.
-    Room { name: String },
+    Room {
+        name: String,
+        /// Leave the furniture out (the GLoD0 ground truth).
+        #[arg(long)]
+        shell: bool,
+    },
     /// Compare a reconstruction with the known model: Chamfer, Hausdorff, windows (JSON).
     Eval {
         truth: String,
@@ -201,13 +206,16 @@ fn simulate(a: &Simulate) -> Result<(), Error> {
     output(None, |w| ply::write(w, &cloud).at_path("<stdout>"))
 }
 
-fn room(name: &str) -> Result<(), Error> {
-    let spec = RoomSpec::named(name).ok_or_else(|| {
+fn room(name: &str, shell: bool) -> Result<(), Error> {
+    let mut spec = RoomSpec::named(name).ok_or_else(|| {
         Error::Usage(format!(
             "unknown room '{name}'; expected one of {}",
             ROOMS.join(", ")
         ))
     })?;
+    if shell {
+        spec.furniture.clear();
+    }
     let scene = spec.scene()?;
     output(None, |w| {
         writeln!(
@@ -373,7 +381,7 @@ fn main() {
         let cli = Cli::parse();
         match &cli.command {
             Some(Command::Simulate(a)) => simulate(a),
-            Some(Command::Room { name }) => room(name),
+            Some(Command::Room { name, shell }) => room(name, *shell),
             Some(Command::Eval {
                 truth,
                 recon,
