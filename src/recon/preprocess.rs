@@ -17,7 +17,6 @@
 use super::cloud::{Bounds, PointCloud};
 use kiddo::{ImmutableKdTree, SquaredEuclidean};
 use rayon::prelude::*;
-use std::collections::HashMap;
 use std::num::NonZero;
 
 /// A k-d tree over a cloud's points.
@@ -41,21 +40,33 @@ pub fn crop(cloud: &mut PointCloud, b: &Bounds) {
     cloud.retain_indices(&keep);
 }
 
-fn voxel_key(p: &[f64; 3], s: f64) -> [i64; 3] {
-    p.map(|v| (v / s).floor() as i64)
+/// A voxel's integer coordinates packed into 63 bits (21 bits per axis: two million voxels
+/// a side, 20 km at 1 cm, before keys wrap).
+fn voxel_key(p: &[f64; 3], s: f64) -> u64 {
+    let k = p.map(|v| ((v / s).floor() as i64 & 0x1F_FFFF) as u64);
+    k[0] << 42 | k[1] << 21 | k[2]
+}
+
+/// Sorted voxel keys with the point index, in parallel (a sort is several times faster than
+/// hashing a million points).
+fn sorted_keys(points: &[[f64; 3]], s: f64) -> Vec<(u64, u32)> {
+    let mut keys: Vec<(u64, u32)> = points
+        .par_iter()
+        .enumerate()
+        .map(|(i, p)| (voxel_key(p, s), i as u32))
+        .collect();
+    keys.par_sort_unstable();
+    keys
 }
 
 fn count_voxels(points: &[[f64; 3]], s: f64) -> usize {
-    let mut set = std::collections::HashSet::with_capacity(points.len() / 4);
-    for p in points {
-        set.insert(voxel_key(p, s));
-    }
-    set.len()
+    let keys = sorted_keys(points, s);
+    1 + keys.windows(2).filter(|w| w[0].0 != w[1].0).count()
 }
 
 /// Down-sample to about `target` points (nothing happens below it); returns the voxel size.
 pub fn voxel_downsample(cloud: &mut PointCloud, target: usize) -> Option<f64> {
-    if cloud.len() <= target || target == 0 {
+    if cloud.len() <= target || target == 0 || cloud.len() > u32::MAX as usize {
         return None;
     }
     let b = Bounds::of(&cloud.points)?;
@@ -71,26 +82,27 @@ pub fn voxel_downsample(cloud: &mut PointCloud, target: usize) -> Option<f64> {
         }
         s *= ratio.sqrt();
     }
-    let mut cells: HashMap<[i64; 3], (usize, [f64; 3], usize)> = HashMap::new();
-    let mut order = Vec::new();
-    for (i, p) in cloud.points.iter().enumerate() {
-        let e = cells.entry(voxel_key(p, s)).or_insert_with(|| {
-            order.push(voxel_key(p, s));
-            (0, [0.0; 3], i)
-        });
-        e.0 += 1;
-        for (acc, v) in e.1.iter_mut().zip(p) {
-            *acc += v;
+    let keys = sorted_keys(&cloud.points, s);
+    let mut first = Vec::new();
+    let mut centroids = Vec::new();
+    let mut start = 0;
+    while start < keys.len() {
+        let mut end = start + 1;
+        while end < keys.len() && keys[end].0 == keys[start].0 {
+            end += 1;
         }
+        let mut sum = [0.0; 3];
+        for &(_, i) in &keys[start..end] {
+            for (acc, v) in sum.iter_mut().zip(&cloud.points[i as usize]) {
+                *acc += v;
+            }
+        }
+        let n = (end - start) as f64;
+        centroids.push(sum.map(|v| v / n));
+        // The lowest index keeps the per-point data (sorting keeps it first within a key).
+        first.push(keys[start].1 as usize);
+        start = end;
     }
-    let first: Vec<usize> = order.iter().map(|k| cells[k].2).collect();
-    let centroids: Vec<[f64; 3]> = order
-        .iter()
-        .map(|k| {
-            let (n, sum, _) = cells[k];
-            sum.map(|v| v / n as f64)
-        })
-        .collect();
     cloud.retain_indices(&first);
     cloud.points = centroids;
     cloud.normals = None;

@@ -268,7 +268,8 @@ pub fn select(
                 let unc = (area - covered).max(0.0);
                 let same = sp + sn;
                 let w = p.wrong_side.max(2.0);
-                let neg = f.neg.expect("plane facets have two cells");
+                // Plane facets always have a cell on both sides (the box holds them).
+                let Some(neg) = f.neg else { continue };
                 // (pos, neg) labels: E00, E01, E10, E11.
                 e.add_pair(
                     f.pos,
