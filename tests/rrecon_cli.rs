@@ -84,6 +84,39 @@ fn room_simulate_reconstruct_eval_through_pipes() {
     let wfr = j["wfr"].as_f64().unwrap();
     assert!((wfr - 0.292).abs() < 0.03, "{wfr}");
     assert!((j["floor_area"].as_f64().unwrap() - 20.0).abs() < 0.2);
+    // Semi-automatic: one named candidate, and a materials file that overrides `wall`.
+    let wall = j["windows"][0]["wall"].as_str().unwrap().to_string();
+    std::fs::write(d("m.rad"), "void plastic wall 0 0 5 0.7 0.7 0.7 0 0\n").unwrap();
+    let one = ok(
+        &[
+            "--windows",
+            &format!("{wall}:1"),
+            "--materials",
+            &d("m.rad"),
+            "--target-points",
+            "40000",
+            "-",
+        ],
+        &scan,
+    );
+    let one = String::from_utf8(one).unwrap();
+    assert_eq!(
+        (
+            one.matches("\nglazing polygon ").count(),
+            text.matches("\nglazing polygon ").count()
+        ),
+        (1, 3)
+    );
+    assert!(
+        one.contains("void plastic wall\n0\n0\n5 0.7 0.7 0.7 0 0"),
+        "{one}"
+    );
+    assert!(one.contains(&format!("{wall}_window1")));
+    let e = err(
+        &["--windows", "wall9:1", "--target-points", "40000", "-"],
+        &scan,
+    );
+    assert!(e.starts_with("rrecon: --windows names 'wall9', which is not a wall of this reconstruction; walls: wall0, wall1, wall2, wall3"), "{e}");
     let svgs = std::fs::read_dir(d("review")).unwrap().count();
     assert_eq!(svgs, 4, "one review picture per wall");
     let e: serde_json::Value = serde_json::from_slice(&ok(
