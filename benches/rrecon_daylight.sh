@@ -34,7 +34,7 @@ floor = None
 for i, l in enumerate(words):
     w = l.split()
     if len(w) == 3 and w[1] == "polygon" and w[2] == "floor":
-        vals = " ".join(words[i + 3:i + 40]).split()
+        vals = " ".join(words[i + 3:i + 3000]).split()
         n = int(vals[0]); v = [float(x) for x in vals[1:n + 1]]
         floor = [(v[k], v[k + 1]) for k in range(0, n, 3)]
         break
