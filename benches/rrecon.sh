@@ -7,7 +7,7 @@
 # Usage: benches/rrecon.sh   (builds rrecon --release)
 set -euo pipefail
 cd "$(dirname "$0")/.."
-T=${BENCH_DIR:-$(mktemp -d)}
+T=${BENCH_DIR:-$(mktemp -d)}; mkdir -p "$T"
 cargo build --release --bin rrecon -q
 B=target/release/rrecon
 export RAYON_NUM_THREADS=2

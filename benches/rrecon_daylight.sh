@@ -9,7 +9,7 @@
 # Usage: benches/rrecon_daylight.sh [rect ...]   (builds the tools --release; minutes)
 set -euo pipefail
 cd "$(dirname "$0")/.."
-T=${BENCH_DIR:-$(mktemp -d)}
+T=${BENCH_DIR:-$(mktemp -d)}; mkdir -p "$T"
 cargo build --release --bins -q
 B=target/release
 EPW=examples/weather/GBR_London.Gatwick.037760_IWEC.epw
