@@ -133,3 +133,21 @@ calib-example:
 	$(BIN)/rcalib explain $(CALIB)/model.rad $(CALIB_IN) --cache $(CALIB_OUT)/cache --report $(CALIB_OUT)/explain.html --effects-out $(CALIB_OUT)/effects.txt
 	$(BIN)/rcalib apply $(CALIB)/model.rad --sensors $(CALIB)/sensors.csv $$(cat $(CALIB_OUT)/effects.txt) > $(CALIB_OUT)/calibrated.rad
 	$(BIN)/rcalib compare $(CALIB_OUT)/calibrated.rad --before $(CALIB)/model.rad $(CALIB_IN) --cache $(CALIB_OUT)/cache --report $(CALIB_OUT)/after.html
+
+# rrecon (issue 9): a simulated laser scan of a known room, reconstructed in one pipe
+# (RANSAC planes, watertight shell, windows chosen automatically), its geometric errors
+# against the known room, and the annual daylight study run straight on the reconstruction.
+RECON_ROOM ?= examples/scan/rect.rad
+.PHONY: recon-example
+recon-example: build
+	@mkdir -p $(OUT)/recon
+	$(BIN)/rrecon simulate $(RECON_ROOM) | $(BIN)/rrecon --auto --json $(OUT)/recon/summary.json \
+	    --review $(OUT)/recon/review - > $(OUT)/recon/recon.rad
+	$(BIN)/rrecon eval $(RECON_ROOM) $(OUT)/recon/recon.rad
+	$(BIN)/rdc -I -ab 4 -ad 4096 -lw 1e-4 -s 1 -m 1 -faf $(OUT)/recon/recon.rad $(ROOM)/skydome.rad \
+	    < examples/scan/rect_sensors.pts > $(OUT)/recon/dc.mtx
+	$(BIN)/rspecsky -m 1 -of $(EPW) > $(OUT)/recon/sky.smx
+	$(BIN)/rmtx -ff -c 47.4 119.9 11.6 $(OUT)/recon/dc.mtx $(OUT)/recon/sky.smx > $(OUT)/recon/illuminance.mtx
+	$(BIN)/rmetrics -w $(EPW) --pts examples/scan/rect_sensors.pts -o $(OUT)/recon/metrics.tsv \
+	    $(OUT)/recon/illuminance.mtx
+	@grep '^room' $(OUT)/recon/metrics.tsv

@@ -1,0 +1,51 @@
+//! Opening a point cloud by name: `-` (standard input, PLY or XYZ by its first bytes) or a
+//! file whose extension picks the reader. LAS/LAZ and E57 are refused with the conversion that
+//! works (their crates, `las` and `e57`, would add a dozen dependencies for one input path;
+//! PDAL or CloudCompare convert either to PLY in one command).
+
+use super::cloud::PointCloud;
+use super::{ply, xyz};
+use crate::error::{Error, Location, Result};
+use std::io::Read;
+
+/// Read `path` (`-` = standard input).
+pub fn read_cloud(path: &str) -> Result<PointCloud> {
+    let lower = path.to_ascii_lowercase();
+    let ext = lower.rsplit_once('.').map(|(_, e)| e).unwrap_or("");
+    if matches!(ext, "las" | "laz" | "e57") {
+        return Err(Error::unsupported(
+            Location::file(path),
+            format!(
+                "point cloud format .{ext}; convert it to PLY first (e.g. `pdal translate {path} \
+                 scan.ply` or CloudCompare's 'Save as PLY')"
+            ),
+        ));
+    }
+    let mut data = Vec::new();
+    let name = if path == "-" { "<stdin>" } else { path };
+    if path == "-" {
+        std::io::stdin()
+            .lock()
+            .read_to_end(&mut data)
+            .map_err(|e| Error::io(name, e))?;
+    } else {
+        data = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    }
+    if data.starts_with(b"ply") || ext == "ply" {
+        ply::read(&data, name)
+    } else {
+        xyz::read(&data, name)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn las_and_e57_say_how_to_convert() {
+        let e = super::read_cloud("scan.E57").unwrap_err().to_string();
+        assert!(
+            e.starts_with("scan.E57: unsupported point cloud format .e57; convert it to PLY"),
+            "{e}"
+        );
+    }
+}
