@@ -129,10 +129,12 @@ def main():
         wall, cpu, rss, err = run_ru([RDC, *common, *scene], pts)
         _, _, _, _, prims, trace, rays = stats(err)
         # CPU of the tracing part: the run's CPU minus the (single-threaded) load + compile.
-        tcpu = max(cpu - load - comp, 1e-9)
+        # Trace CPU = run CPU - load/compile wall time; meaningless when the parallel BVH
+        # build used more CPU than its wall time (then printed as nan).
+        tcpu = cpu - load - comp
         print(f"{ntri:>10} {mb:>8.1f} {load:>7.2f} {comp:>9.2f} {bvh:>6.2f} {rss0:>15.0f} "
               f"{trace:>8.2f} {cpu:>7.2f} {rays/1e6:>7.2f} {rays/trace/1e6:>8.2f} "
-              f"{rays/tcpu/1e6:>11.2f} {rss:>9.0f}")
+              f"{(rays/tcpu/1e6 if tcpu > 0.5 * trace else float('nan')):>11.2f} {rss:>9.0f}")
         os.remove(rad)
     print()
     print(f"sensors: plain office, random desk-height points, -ab 3 -ad {args.ad}, 2 threads")
@@ -144,9 +146,9 @@ def main():
                         for _ in range(n))
         wall, cpu, rss, err = run_ru([RDC, *common, office, sky], lines.encode())
         load, comp, *_, trace, rays = stats(err)
-        tcpu = max(cpu - load - comp, 1e-9)
+        tcpu = cpu - load - comp
         print(f"{n:>8} {trace:>8.2f} {cpu:>7.2f} {trace/n:>9.4f} {rays/trace/1e6:>8.2f} "
-              f"{rays/tcpu/1e6:>11.2f} {rss:>9.0f}")
+              f"{(rays/tcpu/1e6 if tcpu > 0.5 * trace else float('nan')):>11.2f} {rss:>9.0f}")
     print(f"load average: {os.getloadavg()[0]:.1f} (2 cores; quote figures from an idle machine)")
 
 
