@@ -81,7 +81,8 @@ struct Simulate {
 
 #[derive(Args, Debug)]
 struct Recon {
-    /// Point cloud: .ply, .xyz/.txt/.pts or `-` for stdin (PLY or XYZ, sniffed).
+    /// Point cloud: .ply, .las (uncompressed LAS 1.0-1.4), .xyz/.txt/.pts or `-` for stdin
+    /// (PLY, LAS or XYZ, sniffed). LAZ and E57: convert first (the error says how).
     input: Option<String>,
     /// Output `.rad` (default: stdout).
     #[arg(short = 'o', long)]

@@ -1,10 +1,10 @@
 //! Opening a point cloud by name: `-` (standard input, PLY or XYZ by its first bytes) or a
-//! file whose extension picks the reader. LAS/LAZ and E57 are refused with the conversion that
-//! works (their crates, `las` and `e57`, would add a dozen dependencies for one input path;
-//! PDAL or CloudCompare convert either to PLY in one command).
+//! file whose extension picks the reader: PLY, LAS (uncompressed, [`super::las`]) or XYZ text.
+//! LAZ and E57 are refused with the conversion that works (their crates would add a dozen
+//! dependencies for one input path; PDAL or CloudCompare convert either in one command).
 
 use super::cloud::PointCloud;
-use super::{ply, xyz};
+use super::{las, ply, xyz};
 use crate::error::{Error, Location, Result};
 use std::io::Read;
 
@@ -12,7 +12,7 @@ use std::io::Read;
 pub fn read_cloud(path: &str) -> Result<PointCloud> {
     let lower = path.to_ascii_lowercase();
     let ext = lower.rsplit_once('.').map(|(_, e)| e).unwrap_or("");
-    if matches!(ext, "las" | "laz" | "e57") {
+    if matches!(ext, "laz" | "e57") {
         return Err(Error::unsupported(
             Location::file(path),
             format!(
@@ -31,7 +31,9 @@ pub fn read_cloud(path: &str) -> Result<PointCloud> {
     } else {
         data = std::fs::read(path).map_err(|e| Error::io(path, e))?;
     }
-    if data.starts_with(b"ply") || ext == "ply" {
+    if data.starts_with(b"LASF") || ext == "las" {
+        las::read(&data, name)
+    } else if data.starts_with(b"ply") || ext == "ply" {
         ply::read(&data, name)
     } else {
         xyz::read(&data, name)
