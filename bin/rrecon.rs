@@ -82,7 +82,7 @@ struct Simulate {
 #[derive(Args, Debug)]
 struct Recon {
     /// Point cloud: .ply, .las (uncompressed LAS 1.0-1.4), .xyz/.txt/.pts or `-` for stdin
-    /// (PLY, LAS or XYZ, sniffed). LAZ and E57: convert first (the error says how).
+    /// (PLY, LAS or XYZ, sniffed); .e57 (all scans, poses applied). LAZ: decompress first.
     input: Option<String>,
     /// Output `.rad` (default: stdout).
     #[arg(short = 'o', long)]

@@ -1,10 +1,10 @@
 //! Opening a point cloud by name: `-` (standard input, PLY or XYZ by its first bytes) or a
-//! file whose extension picks the reader: PLY, LAS (uncompressed, [`super::las`]) or XYZ text.
-//! LAZ and E57 are refused with the conversion that works (their crates would add a dozen
-//! dependencies for one input path; PDAL or CloudCompare convert either in one command).
+//! file whose extension picks the reader: PLY, LAS (uncompressed, [`super::las`]), E57
+//! ([`super::e57`]) or XYZ text. LAZ is refused with the conversion that works (`pdal
+//! translate` or `laszip` decompress it in one command).
 
 use super::cloud::PointCloud;
-use super::{las, ply, xyz};
+use super::{e57, las, ply, xyz};
 use crate::error::{Error, Location, Result};
 use std::io::Read;
 
@@ -12,7 +12,10 @@ use std::io::Read;
 pub fn read_cloud(path: &str) -> Result<PointCloud> {
     let lower = path.to_ascii_lowercase();
     let ext = lower.rsplit_once('.').map(|(_, e)| e).unwrap_or("");
-    if matches!(ext, "laz" | "e57") {
+    if ext == "e57" {
+        return e57::read(path);
+    }
+    if ext == "laz" {
         return Err(Error::unsupported(
             Location::file(path),
             format!(
@@ -43,10 +46,10 @@ pub fn read_cloud(path: &str) -> Result<PointCloud> {
 #[cfg(test)]
 mod tests {
     #[test]
-    fn las_and_e57_say_how_to_convert() {
-        let e = super::read_cloud("scan.E57").unwrap_err().to_string();
+    fn laz_says_how_to_convert() {
+        let e = super::read_cloud("scan.LAZ").unwrap_err().to_string();
         assert!(
-            e.starts_with("scan.E57: unsupported point cloud format .e57; convert it to PLY"),
+            e.starts_with("scan.LAZ: unsupported point cloud format .laz; convert it to PLY"),
             "{e}"
         );
     }

@@ -42,10 +42,11 @@
 //! | [`openings`] | window candidates (Delaunay holes), ranking, regularised outlines |
 //! | [`pipeline`] | the whole run with timings: [`reconstruct`] |
 //! | [`summary`] | the JSON summary (planes, areas, WWR, WFR, timings, candidates) |
-//! | [`ply`], [`las`], [`xyz`], [`input`] | point cloud files (nom parsers, errors with line or byte offset) |
+//! | [`ply`], [`las`], [`e57`], [`xyz`], [`input`] | point cloud files (nom parsers, errors with line or byte offset) |
 
 pub mod arrangement;
 pub mod cloud;
+pub mod e57;
 pub mod eval;
 pub mod input;
 pub mod las;
