@@ -108,8 +108,9 @@ fn dark_walls_in_the_deep_room() {
             class: SurfaceClass::Walls,
             scale: 0.5,
         }],
-        // Found and ranked first, but the fitted scale (about 0.6 for 0.5) leaves 20 %:
-        // the inter-reflected sun's sensitivity is borrowed from the sky's (not re-traced),
+        // Found and ranked first, but the fitted scale (about 0.75 for 0.5, with sensor
+        // factors at the deepest sensors) leaves 10-20 %: the inter-reflected sun's
+        // sensitivity comes from the sky patches around the sun, not from its own paths,
         // and in this sunny deep room that light dominates. Known limit (see the report).
         7.0,
     );

@@ -39,10 +39,21 @@ fn hit_rate_table() {
     );
     println!("|---|---|---|---|---|---|---|---|---|---|");
     let (mut hits, mut passes, mut total) = (0, 0, 0);
+    // RCALIB_ONLY, RCALIB_ROOM and RCALIB_CLIMATE: comma-separated substrings of the
+    // effect, room and climate names to keep (quick subsets of the table).
+    let keep = |var: &Option<String>, name: &str| {
+        var.as_deref()
+            .is_none_or(|o| o.split(',').any(|x| name.contains(x)))
+    };
+    let only_room = std::env::var("RCALIB_ROOM").ok();
+    let only_climate = std::env::var("RCALIB_CLIMATE").ok();
     for kind in RoomKind::ALL {
         for climate in [Climate::London, Climate::Sunny] {
+            if !keep(&only_room, kind.name()) || !keep(&only_climate, climate.name()) {
+                continue;
+            }
             for (name, hidden) in hidden_effects(kind) {
-                if only.as_deref().is_some_and(|o| !name.contains(o)) {
+                if !keep(&only, &name) {
                     continue;
                 }
                 let w = match climate {

@@ -1,14 +1,13 @@
 //! # The model under calibration: components, sensitivities, observations, prediction
 //!
 //! [`Model`] holds what every fit needs: the [`Components`] of the model as given, the
-//! reflectance sensitivities (coefficients re-traced with each surface class's reflectance
-//! scaled by `1 ± DELTA`, combined by quadratic interpolation), the room's windows, the
+//! reflectance sensitivities (coefficients with each surface class's reflectance scaled by
+//! `1 ± DELTA`, from one traced run with path re-weighting records, combined by quadratic
+//! interpolation; the inter-reflected sun's from the sky patches around it), the room's windows, the
 //! skies and the observations. [`Model::predict`] turns a list of effects into simulated
 //! illuminances for every observation in a fraction of a millisecond per hundred readings,
 //! which is what makes fitting interactive.
 //!
-//! Where path re-weighting (rdc recording per-path reflection records) becomes available,
-//! it replaces the re-traces in [`Model::build`]: the sensitivities are the same arrays.
 
 use super::effects::{self, Effect};
 use super::measurements::Bound;
@@ -19,7 +18,7 @@ use crate::formats::sensors::Sensor;
 use crate::scene::Scene;
 use crate::sky::SkyPatches;
 
-/// Relative reflectance step of the re-traced sensitivities.
+/// Relative reflectance step of the re-weighted sensitivities.
 pub const DELTA: f64 = 0.5;
 
 /// First and second derivatives (per unit of the scale factor) of the sky and
@@ -70,8 +69,8 @@ pub struct Weights {
 }
 
 impl Model {
-    /// Build from coefficients: re-traces the reflectance sensitivities of every class the
-    /// room has (two cached runs per class).
+    /// Build from coefficients: the reflectance sensitivities of every class the room has
+    /// come from one re-weighted run (cached).
     #[allow(clippy::too_many_arguments)]
     pub fn build(
         tracer: &Tracer,
@@ -84,14 +83,36 @@ impl Model {
         with_reflectance: bool,
     ) -> Result<Model> {
         let comps = Components::new(dcs, &skies);
+        let patches = SkyPatches::new(dcs_mf(dcs.npatch));
         let mut refl = Vec::new();
         if with_reflectance {
-            for class in room.classes() {
-                let lo = tracer.dc_scaled(scene, &room, class, 1.0 - DELTA)?;
-                let hi = tracer.dc_scaled(scene, &room, class, 1.0 + DELTA)?;
+            let classes = room.classes();
+            // The middle variant is the re-weighted run's own (unscaled) coefficients: the
+            // differences then come from one set of paths even where the cached `total`
+            // was traced by another version of the tracer.
+            let (scaled, none) =
+                tracer.dc_scaled(scene, &room, &classes, &[1.0 - DELTA, 1.0, 1.0 + DELTA])?;
+            let c_none = Components::new(
+                &Dcs {
+                    total: none,
+                    ..dcs.clone()
+                },
+                &skies,
+            );
+            for (&class, v) in classes.iter().zip(scaled) {
+                let [lo, mid, hi]: [Vec<f64>; 3] = v.try_into().map_err(|_| {
+                    crate::error::Error::Mismatch("re-weighting: three variants expected".into())
+                })?;
                 let c_lo = Components::new(
                     &Dcs {
                         total: lo,
+                        ..dcs.clone()
+                    },
+                    &skies,
+                );
+                let c_mid = Components::new(
+                    &Dcs {
+                        total: mid,
                         ..dcs.clone()
                     },
                     &skies,
@@ -103,10 +124,11 @@ impl Model {
                     },
                     &skies,
                 );
-                refl.push(sensitivity(class, &comps, &c_lo, &c_hi));
+                refl.push(sensitivity(
+                    class, &comps, &c_none, &c_mid, &c_lo, &c_hi, &skies, &patches,
+                ));
             }
         }
-        let patches = SkyPatches::new(dcs_mf(dcs.npatch));
         Ok(Model {
             comps,
             refl,
@@ -244,12 +266,35 @@ impl Model {
     }
 }
 
-/// Sensitivities from components at `1 - DELTA` and `1 + DELTA`. The inter-reflected sun is
-/// not re-traced (one run per step and class would dominate the cost): its relative
-/// sensitivity is taken as that of the sensor's inter-reflected sky light, i.e. the sun's
-/// first bounce is assumed to land where the sky's does (near the window). Where rdc's path
-/// re-weighting records become available they give the sun's own sensitivity for free.
-fn sensitivity(class: SurfaceClass, c0: &Components, lo: &Components, hi: &Components) -> ReflSens {
+/// Angular width (standard deviation, degrees) of the kernel that pools the sky patches
+/// around the sun into its relative sensitivity: about one Tregenza patch (12 degrees wide),
+/// so that a few patches' worth of paths share the estimate.
+const SUN_KERNEL_DEG: f64 = 8.0;
+
+/// Sensitivities from components at `1 - DELTA` and `1 + DELTA`.
+///
+/// The inter-reflected sun is not re-traced (one run per step, class and scale would
+/// dominate the cost). Its *relative* sensitivity is taken from the sky patches around the
+/// sun's position: light of sky patch `p` that reaches the sensor only after reflection
+/// first lands where the window's projection along `p` falls, which is where the sun
+/// inside `p` lands too (the last vertex of a sensor path leaving through the window
+/// towards `p` is a first-bounce point of that patch's light). So per sensor
+/// `dVsun/dk / Vsun_ind = sum_p w_p dDC_p/dk / sum_p w_p DC_ind,p`, with `w_p` a Gaussian in
+/// the angle between patch `p`'s centre and the sun. Averaging over the whole sky instead
+/// (the sensor's total inter-reflected sky light) mixes in the ground patch, whose light
+/// goes up to the ceiling, while the sun lands on the floor or walls: the walls' and the
+/// ground's sensitivities of the sun were then wrong by factors of several.
+#[allow(clippy::too_many_arguments)]
+fn sensitivity(
+    class: SurfaceClass,
+    c0: &Components,
+    none: &Components,
+    mid: &Components,
+    lo: &Components,
+    hi: &Components,
+    skies: &[StepSky],
+    patches: &SkyPatches,
+) -> ReflSens {
     let d1 = |a: &[f64], b: &[f64]| -> Vec<f64> {
         a.iter()
             .zip(b)
@@ -264,23 +309,66 @@ fn sensitivity(class: SurfaceClass, c0: &Components, lo: &Components, hi: &Compo
             .collect()
     };
     let d1_sky = d1(&lo.sky, &hi.sky);
-    let d2_sky = d2(&lo.sky, &c0.sky, &hi.sky);
+    let d2_sky = d2(&lo.sky, &mid.sky, &hi.sky);
     let (ns, nt, np) = (c0.nsens, c0.nsteps, c0.npatch);
+    // Per step: kernel weights of the patches near the sun (none while it is down).
+    let kernels: Vec<Vec<(usize, f64)>> = skies
+        .iter()
+        .map(|sk| {
+            if sk.sun_radiance <= 0.0 || sk.sun_altitude_deg <= 0.0 || np != patches.len() {
+                return Vec::new();
+            }
+            let sigma = SUN_KERNEL_DEG.to_radians();
+            (1..np)
+                .filter_map(|p| {
+                    let c = patches.centre(p);
+                    let cos = (c[0] * sk.sun_dir[0] + c[1] * sk.sun_dir[1] + c[2] * sk.sun_dir[2])
+                        .clamp(-1.0, 1.0);
+                    let a = cos.acos();
+                    (a < 3.0 * sigma).then(|| (p, (-0.5 * (a / sigma).powi(2)).exp()))
+                })
+                .collect()
+        })
+        .collect();
     let mut d1_sun = vec![0.0; ns * nt];
     let mut d2_sun = vec![0.0; ns * nt];
     for s in 0..ns {
-        let r = s * nt * np..(s + 1) * nt * np;
-        let ind: f64 = c0.sky[r.clone()]
-            .iter()
-            .zip(&c0.sky_direct[r.clone()])
-            .map(|(a, b)| a - b)
-            .sum();
-        if ind <= 0.0 {
+        // Per patch, summed over the steps: inter-reflected sky light and its derivatives
+        // (the ratio of a patch's derivative to its light does not depend on the sky).
+        let (mut ind, mut a1, mut a2) = (vec![0.0; np], vec![0.0; np], vec![0.0; np]);
+        for t in 0..nt {
+            let base = (s * nt + t) * np;
+            for p in 0..np {
+                // Light that met a tracked surface, from the same paths as the derivatives
+                // (mid minus direct-only coefficients of another run is a small
+                // difference of noisy numbers where the sensor sees the patch).
+                ind[p] += mid.sky[base + p] - none.sky[base + p];
+                a1[p] += d1_sky[base + p];
+                a2[p] += d2_sky[base + p];
+            }
+        }
+        let all: f64 = ind.iter().sum();
+        if all <= 0.0 {
             continue;
         }
-        let r1 = d1_sky[r.clone()].iter().sum::<f64>() / ind;
-        let r2 = d2_sky[r].iter().sum::<f64>() / ind;
+        // The whole sky's ratio: the fallback where the patches around the sun carry no
+        // inter-reflected light.
+        let g1 = a1.iter().sum::<f64>() / all;
+        let g2 = a2.iter().sum::<f64>() / all;
         for t in 0..nt {
+            let (mut wi, mut w1, mut w2) = (0.0, 0.0, 0.0);
+            for &(p, w) in &kernels[t] {
+                wi += w * ind[p];
+                w1 += w * a1[p];
+                w2 += w * a2[p];
+            }
+            // Below a thousandth of the sensor's inter-reflected sky light the patches'
+            // few paths say nothing reliable.
+            let (r1, r2) = if wi > 1e-3 * all {
+                (w1 / wi, w2 / wi)
+            } else {
+                (g1, g2)
+            };
             d1_sun[s * nt + t] = c0.sun_indirect[s * nt + t] * r1;
             d2_sun[s * nt + t] = c0.sun_indirect[s * nt + t] * r2;
         }

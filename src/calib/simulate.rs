@@ -26,20 +26,24 @@
 //! Coefficients are cached on disk ([`super::cache`]): a re-run traces nothing.
 
 use super::cache;
-use super::room::{Room, SurfaceClass, scaled_scene};
+#[allow(unused_imports)] // named in the documentation
+use super::room::scaled_scene;
+use super::room::{Room, SurfaceClass};
 use crate::error::{Error, Result};
 use crate::formats::sensors::Sensor;
 use crate::formats::weather::Weather;
 use crate::radiometry::{RGB_PHOTOPIC_ROUNDED, WHITE_EFFICACY};
 use crate::rdc::Options;
 use crate::rdc::options::radiance_args;
-use crate::rdc::run::Prepared;
+use crate::rdc::run::{Prepared, RecordResult};
+use crate::scene::Primitive;
 use crate::scene::Scene;
 use crate::sky::matrix::{radiance_site, time_steps};
 use crate::sky::perez::{
     GENDAYMTX_GROUND_REFLECTANCE, GENDAYMTX_SKY_COLOUR, PerezOptions, perez_sky_vector,
 };
 use crate::sky::{SkyPatches, solar::SunPosition};
+use crate::trace::reweight::Reweighting;
 use clap::Parser;
 use std::path::PathBuf;
 
@@ -188,6 +192,10 @@ pub struct Dcs {
     pub sun_total: Vec<f64>,
 }
 
+/// Re-weighted sky coefficients: `[class][factor]` variants, and the variant with every
+/// tracked class black.
+pub type ScaledDcs = (Vec<Vec<Vec<f64>>>, Vec<f64>);
+
 /// Runs `rdc` (in memory, through [`Prepared`]) with a disk cache.
 pub struct Tracer {
     pub settings: Settings,
@@ -270,6 +278,19 @@ impl Tracer {
                 return Ok(v);
             }
         }
+        let values: Vec<f64> = self
+            .trace(scene_text, kind, key)?
+            .into_iter()
+            .flat_map(|r| r.values)
+            .collect();
+        if let Some(c) = &self.cache {
+            cache::store(c, key, &values);
+        }
+        Ok(values)
+    }
+
+    /// One rdc run; `key` names its scratch files.
+    fn trace(&self, scene_text: &str, kind: &[&str], key: u64) -> Result<Vec<RecordResult>> {
         let scene_path = self.work.join(format!("scene-{key:016x}.rad"));
         std::fs::write(&scene_path, scene_text)
             .map_err(|e| Error::io(scene_path.display().to_string(), e))?;
@@ -296,11 +317,7 @@ impl Tracer {
             let _ = std::fs::remove_file(p);
         }
         let rows = result?;
-        let values: Vec<f64> = rows.into_iter().flat_map(|r| r.values).collect();
-        if let Some(c) = &self.cache {
-            cache::store(c, key, &values);
-        }
-        Ok(values)
+        Ok(rows)
     }
 
     /// All three coefficient sets of a scene.
@@ -362,16 +379,119 @@ impl Tracer {
         Ok(out)
     }
 
-    /// Sky coefficients (all bounces) of `scene` with the reflectance of `class` times `k`.
+    /// Sky coefficients (all bounces) of `scene` with the reflectance of each class of
+    /// `classes` times each factor of `ks`, `out[class][k]`, from ONE traced run with
+    /// path re-weighting records ([`crate::trace::reweight`]): every variant reuses the
+    /// paths of the model as given (same seed and settings, so the all-ones variant is the
+    /// model's own `total`), which is exact for diffuse reflection and leaves the
+    /// differences between variants free of the Monte Carlo noise that separate re-traces
+    /// of each variant carry (their paths diverge at the first roulette decision). As
+    /// [`scaled_scene`], colours are capped at 0.95. Cached per (class, factor).
     pub fn dc_scaled(
         &self,
         scene: &Scene,
         room: &Room,
-        class: SurfaceClass,
-        k: f64,
-    ) -> Result<Vec<f64>> {
-        let s = scaled_scene(scene, room, &[(class, k)], 1.0).to_string();
-        self.run(&s, &["-m", &self.settings.mf.to_string()])
+        classes: &[SurfaceClass],
+        ks: &[f64],
+    ) -> Result<ScaledDcs> {
+        let text = scene.to_string();
+        let mf = self.settings.mf.to_string();
+        let kind = ["-m", mf.as_str()];
+        let variant_key = |c: SurfaceClass, k: f64| {
+            cache::key(&[
+                text.as_bytes(),
+                self.sensors_text.as_bytes(),
+                format!("{:?} reweighted {c:?} x {k}", self.settings).as_bytes(),
+            ])
+        };
+        if let Some(dir) = &self.cache {
+            let cached: Option<Vec<Vec<Vec<f64>>>> = classes
+                .iter()
+                .map(|&c| {
+                    ks.iter()
+                        .map(|&k| cache::load(dir, variant_key(c, k)))
+                        .collect()
+                })
+                .collect();
+            let none = cache::load(dir, variant_key(SurfaceClass::Ground, -1.0));
+            if let (Some(v), Some(n)) = (cached, none) {
+                return Ok((v, n));
+            }
+        }
+        // Every plastic/metal/trans of a class is tracked; its own colour decides the cap.
+        let mut names: Vec<String> = Vec::new();
+        let mut caps: Vec<(SurfaceClass, f64)> = Vec::new();
+        for o in &scene.objects {
+            let Some(&(_, class)) = room.materials.iter().find(|m| m.0 == o.id) else {
+                continue;
+            };
+            if !classes.contains(&class) || names.contains(&o.id) {
+                continue;
+            }
+            if let Primitive::Plastic { color, .. }
+            | Primitive::Metal { color, .. }
+            | Primitive::Trans { color, .. } = &o.kind
+            {
+                names.push(o.id.clone());
+                caps.push((class, color.iter().copied().fold(0.0, f64::max)));
+            }
+        }
+        let key = cache::key(&[text.as_bytes(), names.join(",").as_bytes()]);
+        // The terms come back in memory with the rows; the file rdc would write is not
+        // needed (Prepared::compute does not write it).
+        let rw_path = self.work.join(format!("rw-{key:016x}.bin"));
+        let rw_arg = rw_path.display().to_string();
+        let mats = names.join(",");
+        let mut args: Vec<&str> = kind.to_vec();
+        if !names.is_empty() {
+            args.extend(["--reweight", rw_arg.as_str(), "--reweight-materials", &mats]);
+        }
+        let rows = self.trace(&text, &args, key)?;
+        let _ = std::fs::remove_file(&rw_path);
+        let ncols = SkyPatches::new(self.settings.mf).len();
+        let mut rw = Reweighting::new(names.clone(), ncols, 3);
+        for r in &rows {
+            rw.push_row(&r.terms);
+        }
+        let base: Vec<f64> = rows.into_iter().flat_map(|r| r.values).collect();
+        let rw = (!names.is_empty()).then_some(rw);
+        let mut out = Vec::new();
+        for &c in classes {
+            let mut per_k = Vec::new();
+            for &k in ks {
+                let v = match &rw {
+                    Some(rw) => {
+                        let scales: Vec<f64> = rw
+                            .materials
+                            .iter()
+                            .map(|m| match names.iter().position(|n| n == m) {
+                                Some(i) if caps[i].0 == c && caps[i].1 > 0.0 => {
+                                    k.min(0.95 / caps[i].1)
+                                }
+                                _ => 1.0,
+                            })
+                            .collect();
+                        rw.apply(&scales)?
+                    }
+                    None => base.clone(),
+                };
+                if let Some(dir) = &self.cache {
+                    cache::store(dir, variant_key(c, k), &v);
+                }
+                per_k.push(v);
+            }
+            out.push(per_k);
+        }
+        // Every tracked material black: what reaches the sensors without reflection at any
+        // of the classes (direct light, light through untracked materials only).
+        let none = match &rw {
+            Some(rw) => rw.apply(&vec![0.0; rw.materials.len()])?,
+            None => base,
+        };
+        if let Some(dir) = &self.cache {
+            cache::store(dir, variant_key(SurfaceClass::Ground, -1.0), &none);
+        }
+        Ok((out, none))
     }
 }
 

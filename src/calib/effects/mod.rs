@@ -2,13 +2,13 @@
 //!
 //! Each effect is a physically parameterised change of the model with its own signature in
 //! the residuals, expressed through the daylight-coefficient [`Components`] (no re-tracing
-//! while fitting, except the cached reflectance re-traces):
+//! while fitting; the reflectance variants come from one cached re-weighted run):
 //!
 //! | effect | parameters | acts on | signature |
 //! |---|---|---|---|
 //! | [`transmittance`] | scale of the glazing transmittance | everything | uniform bias |
 //! | [`obstruction`] | horizon sector: azimuth, half width, altitude | sky patches and suns behind it | low-sky and low-sun hours, sky-view dependent |
-//! | [`reflectance`] | scale per surface class (walls, ceiling, floor, ground) | inter-reflected light (re-traced coefficients) | grows with depth / with ground-lit ceiling |
+//! | [`reflectance`] | scale per surface class (walls, ceiling, floor, ground) | inter-reflected light (re-weighted coefficients) | grows with depth / with ground-lit ceiling |
 //! | [`overhang`] | depth above a window head | high patches and high suns, per sensor | sun hours near the window |
 //! | [`local`] | blocked fraction of the direct light at a group of sensors | direct sky and sun at those sensors | a few neighbouring sensors, sun hours |
 //! | [`sensor`] | calibration factor per faulty sensor | one sensor's readings | constant ratio at one sensor |

@@ -1,8 +1,8 @@
 //! # Interior reflectances and ground albedo
 //!
 //! The reflectance of a surface class (walls, ceiling, floor, exterior ground) scaled by
-//! `k`: only inter-reflected light changes, through coefficients re-traced at `k = 1 ± 0.5`
-//! and interpolated quadratically ([`crate::calib::model::ReflSens`]); the ground class also
+//! `k`: only inter-reflected light changes, through coefficients re-weighted to `k = 1 ± 0.5`
+//! from one trace and interpolated quadratically ([`crate::calib::model::ReflSens`]); the ground class also
 //! scales gendaymtx's ground patch. Signature: errors growing with depth from the window
 //! (walls, ceiling), ceiling-lit sensors under a bright ground. Fitted in 0.4 .. 1.6 (ground: 0.3 .. 4).
 
