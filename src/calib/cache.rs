@@ -11,10 +11,16 @@ use std::path::{Path, PathBuf};
 
 const MAGIC: &[u8; 9] = b"RCALIBDC1";
 
-/// FNV-1a over a sequence of byte strings (each followed by a separator byte).
+/// FNV-1a over a sequence of byte strings (each followed by a separator byte), after the
+/// crate version and the tracer's [`crate::trace::REVISION`]: a cache written by another
+/// tracer is never read back.
 pub fn key(parts: &[&[u8]]) -> u64 {
     let mut h: u64 = 0xcbf2_9ce4_8422_2325;
-    for p in parts {
+    let version: [&[u8]; 2] = [
+        env!("CARGO_PKG_VERSION").as_bytes(),
+        crate::trace::REVISION.as_bytes(),
+    ];
+    for p in version.iter().chain(parts) {
         for &b in p.iter().chain(std::iter::once(&0xffu8)) {
             h ^= u64::from(b);
             h = h.wrapping_mul(0x0000_0100_0000_01b3);

@@ -45,3 +45,8 @@ pub mod sources;
 pub use compile::{Renderable, SurfaceInfo};
 pub use integrator::{SampleStats, TraceParams};
 pub use sources::{DistantKind, DistantSource, SkyPattern, Sources};
+
+/// Revision of the path tracer's sampling: change it whenever a given seed starts giving
+/// other numbers (another random stream, a new estimator), so caches of traced results
+/// (rcalib's coefficient cache) do not mix runs of two tracers.
+pub const REVISION: &str = "2026-11-21: glass branching, re-weighting terms";
