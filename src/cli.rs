@@ -45,14 +45,9 @@ pub fn stdout_is_file() -> bool {
     }
 }
 
-/// Write a file atomically: the data goes to a temporary file beside the target which is
-/// renamed over it only once everything was written, so a failed run leaves nothing
-/// half-written behind.
-pub fn write_atomically(
-    path: &std::path::Path,
-    f: impl FnOnce(&mut dyn Write) -> Result<(), Error>,
-) -> Result<(), Error> {
-    let shown = path.display().to_string();
+/// A temporary name beside `path` (same directory, so a rename replaces it atomically):
+/// `.name.PID.part`.
+pub fn temp_beside(path: &std::path::Path) -> std::path::PathBuf {
     let dir = path
         .parent()
         .filter(|p| !p.as_os_str().is_empty())
@@ -61,7 +56,18 @@ pub fn write_atomically(
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_default();
-    let tmp = dir.join(format!(".{name}.{}.part", std::process::id()));
+    dir.join(format!(".{name}.{}.part", std::process::id()))
+}
+
+/// Write a file atomically: the data goes to a temporary file beside the target which is
+/// renamed over it only once everything was written, so a failed run leaves nothing
+/// half-written behind.
+pub fn write_atomically(
+    path: &std::path::Path,
+    f: impl FnOnce(&mut dyn Write) -> Result<(), Error>,
+) -> Result<(), Error> {
+    let shown = path.display().to_string();
+    let tmp = temp_beside(path);
     let result = (|| {
         let file = std::fs::File::create(&tmp).map_err(|e| Error::io(&shown, e))?;
         let mut w = std::io::BufWriter::new(file);

@@ -748,16 +748,7 @@ impl ReweightFile {
         let Some(r) = r else {
             return Ok(ReweightFile { inner: None });
         };
-        let path = std::path::Path::new(&r.path);
-        let dir = path
-            .parent()
-            .filter(|p| !p.as_os_str().is_empty())
-            .unwrap_or(std::path::Path::new("."));
-        let name = path
-            .file_name()
-            .map(|n| n.to_string_lossy().into_owned())
-            .unwrap_or_default();
-        let tmp = dir.join(format!(".{name}.{}.part", std::process::id()));
+        let tmp = crate::cli::temp_beside(std::path::Path::new(&r.path));
         let f = std::fs::File::create(&tmp).map_err(|e| Error::io(&r.path, e))?;
         let w = RowWriter::start(
             std::io::BufWriter::new(f),
