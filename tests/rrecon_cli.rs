@@ -182,10 +182,10 @@ fn bad_inputs_give_one_line_with_location_and_fix() {
             d("bad.xyz")
         )
     );
-    let e = err(&["scan.las"], b"");
+    let e = err(&["scan.laz"], b"");
     assert!(
         e.starts_with(
-            "rrecon: scan.las: unsupported point cloud format .las; convert it to PLY first"
+            "rrecon: scan.laz: unsupported point cloud format .laz; convert it to PLY first"
         ),
         "{e}"
     );
