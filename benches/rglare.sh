@@ -5,10 +5,7 @@
 # Usage: benches/rglare.sh   (needs pyradiance or RADIANCE_BIN; builds rglare --release)
 set -euo pipefail
 cd "$(dirname "$0")/.."
-if [[ -n "${RADIANCE_BIN:-}" ]]; then RBIN=$RADIANCE_BIN; RLIB=${RAYPATH:-$(dirname "$RBIN")/lib}
-else ROOT=$(python3 -c "import pyradiance, os; print(os.path.dirname(pyradiance.__file__))")
-	RBIN=$ROOT/bin; RLIB=$ROOT/lib; fi
-export PATH="$RBIN:$PATH" RAYPATH=".:$RLIB"
+source radiance-fixtures/find_radiance.sh evalglare "$0"
 T=${BENCH_DIR:-$(mktemp -d)}
 PIC=$T/bench_1000.hdr
 if [[ ! -s $PIC ]]; then

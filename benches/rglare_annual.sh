@@ -9,10 +9,7 @@
 #   (both routes at -ab 2: a view ray counts its bounces from the surface it hits, as rpict)
 set -euo pipefail
 cd "$(dirname "$0")/.."
-if [[ -n "${RADIANCE_BIN:-}" ]]; then RBIN=$RADIANCE_BIN; RLIB=${RAYPATH:-$(dirname "$RBIN")/lib}
-else ROOT=$(python3 -c "import pyradiance, os; print(os.path.dirname(pyradiance.__file__))")
-	RBIN=$ROOT/bin; RLIB=$ROOT/lib; fi
-export PATH="$RBIN:$PATH" RAYPATH=".:$RLIB"
+source radiance-fixtures/find_radiance.sh evalglare "$0"
 T=${BENCH_DIR:-$(mktemp -d)}
 F=radiance-fixtures
 EPW=$(ls examples/weather/*.epw | head -1)
