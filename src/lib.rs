@@ -24,6 +24,7 @@
 //! - [`cli`]: what the thin binaries in `bin/` share (exit codes, progress, atomic output).
 
 pub mod calib;
+pub mod cal;
 pub mod cli;
 pub mod error;
 pub mod formats;

@@ -38,6 +38,7 @@ pub mod room;
 pub mod score;
 pub mod session;
 pub mod simulate;
+pub mod spectral;
 pub mod stats;
 pub mod svg;
 pub mod tmscan;

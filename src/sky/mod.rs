@@ -22,8 +22,10 @@
 //! Radiance's visible "white" (luminance / 179).
 
 pub mod cie;
+pub mod atmosphere;
 pub mod efficacy;
 pub mod gendaylit;
+pub mod genssky;
 pub mod matrix;
 pub mod patches;
 pub mod perez;

@@ -22,6 +22,7 @@ pub mod obstruction;
 pub mod overhang;
 pub mod reflectance;
 pub mod sensor;
+pub mod tint;
 pub mod transmittance;
 
 use super::room::SurfaceClass;

@@ -1,0 +1,1 @@
+//! Spectral calibration (issue 8; placeholder, filled in on its branch).
