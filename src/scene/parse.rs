@@ -152,11 +152,6 @@ impl<'t> Source<'t> {
         (line, col)
     }
 
-    fn loc(&self) -> Location {
-        let (l, c) = self.line_col(self.pos);
-        Location::at(self.name.clone(), l, c)
-    }
-
     fn skip_space(&mut self) {
         let (rest, _) = take_while::<_, &str, ()>(is_space)
             .parse(self.rest())
@@ -164,25 +159,37 @@ impl<'t> Source<'t> {
         self.advance(rest);
     }
 
-    /// The next word and where it starts, or an error naming `context` and `what` was
-    /// expected when the text ends first.
-    fn word(&mut self, context: &str, what: &dyn Fn() -> String) -> Result<(String, Location)> {
+    /// The location of byte `offset`, computed only when it is needed (an error, or once
+    /// per object): a 1M-polygon scene has ~15M words, and building a `Location` (line
+    /// search, column count, file-name copy) for each was most of the load time.
+    fn at(&self, offset: usize) -> Location {
+        let (l, c) = self.line_col(offset);
+        Location::at(self.name.clone(), l, c)
+    }
+
+    /// The next word and the byte offset where it starts, or an error naming `context` and
+    /// what was expected when the text ends first (both built only on error).
+    fn word(
+        &mut self,
+        context: &dyn Fn() -> String,
+        what: &dyn Fn() -> String,
+    ) -> Result<(String, usize)> {
         self.skip_space();
-        let loc = self.loc();
+        let start = self.pos;
         if self.rest().is_empty() {
             return Err(Error::parse(
-                loc,
-                format!("unexpected end of file {context}; expected {}", what()),
+                self.at(start),
+                format!("unexpected end of file {}; expected {}", context(), what()),
             ));
         }
         match word(self.rest()) {
             Ok((rest, w)) if !rest.starts_with(is_quote) => {
                 self.advance(rest);
-                Ok((w, loc))
+                Ok((w, start))
             }
             _ => Err(Error::parse(
-                loc,
-                format!("unterminated quote {context}; expected {}", what()),
+                self.at(start),
+                format!("unterminated quote {}; expected {}", context(), what()),
             )),
         }
     }
@@ -251,7 +258,7 @@ impl<'o> Loader<'o> {
             if let Ok((r, _)) = comment(rest) {
                 src.advance(r);
             } else if let Ok((r, cmd)) = command_line(rest) {
-                let loc = src.loc();
+                let loc = src.at(src.pos);
                 src.advance(r);
                 self.command(cmd, &src, loc, depth)?;
             } else {
@@ -280,7 +287,8 @@ impl<'o> Loader<'o> {
     }
 
     fn object(&mut self, src: &mut Source) -> Result<()> {
-        let (mod_name, loc) = src.word("", &|| "a modifier".into())?;
+        let (mod_name, start) = src.word(&String::new, &|| "a modifier".into())?;
+        let loc = src.at(start);
         if mod_name.contains('\t') {
             return Err(Error::parse(
                 loc,
@@ -298,7 +306,7 @@ impl<'o> Loader<'o> {
                 }
             },
         };
-        let ctx = format!("after modifier '{mod_name}' (object starting at {loc})");
+        let ctx = || format!("after modifier '{mod_name}' (object starting at {loc})");
         let (type_name, tloc) = src.word(&ctx, &|| "a primitive type".into())?;
         let otype = if type_name == "alias" {
             None
@@ -307,7 +315,7 @@ impl<'o> Loader<'o> {
                 Some(t) => Some(t),
                 None => {
                     return Err(Error::parse(
-                        tloc,
+                        src.at(tloc),
                         format!("unknown primitive type '{type_name}'"),
                     ));
                 }
@@ -316,17 +324,21 @@ impl<'o> Loader<'o> {
         let (id, iloc) = src.word(&ctx, &|| format!("an identifier for the {type_name}"))?;
         if id.contains('\t') {
             return Err(Error::parse(
-                iloc,
+                src.at(iloc),
                 format!("illegal tab in identifier '{}'", id.escape_debug()),
             ));
         }
         if otype.is_none_or(OType::is_modifier) && (id == "void" || id == "inherit") {
-            return Err(Error::parse(iloc, format!("illegal modifier name '{id}'")));
+            return Err(Error::parse(
+                src.at(iloc),
+                format!("illegal modifier name '{id}'"),
+            ));
         }
-        let ctx = format!("inside {type_name} '{id}' (started at {loc})");
+        let ctx = || format!("inside {type_name} '{id}' (started at {loc})");
 
         let Some(otype) = otype else {
-            return self.alias(src, loc, mod_name, modifier, id, &ctx);
+            let msg = ctx();
+            return self.alias(src, loc, mod_name, modifier, id, &move || msg.clone());
         };
         let Some(modifier) = modifier else {
             return Err(Error::parse(
@@ -341,7 +353,7 @@ impl<'o> Loader<'o> {
             Some(v) if v >= 0 => v as usize,
             _ => {
                 return Err(Error::parse(
-                    nloc,
+                    src.at(nloc),
                     format!(
                         "{type_name} '{id}': expected the number of string arguments, found '{n}'"
                     ),
@@ -358,7 +370,7 @@ impl<'o> Loader<'o> {
         let (ni, niloc) = src.word(&ctx, &|| "the number of integer arguments (0)".into())?;
         if parse_count(&ni) != Some(0) {
             return Err(Error::parse(
-                niloc,
+                src.at(niloc),
                 format!(
                     "{type_name} '{id}': expected 0 integer arguments (Radiance allows none), found '{ni}'"
                 ),
@@ -369,7 +381,7 @@ impl<'o> Loader<'o> {
             Some(v) if v >= 0 => v as usize,
             _ => {
                 return Err(Error::parse(
-                    mloc,
+                    src.at(mloc),
                     format!(
                         "{type_name} '{id}': expected the number of real arguments, found '{m}'"
                     ),
@@ -384,7 +396,7 @@ impl<'o> Loader<'o> {
                 Some(v) => reals.push(v),
                 None => {
                     return Err(Error::parse(
-                        wloc,
+                        src.at(wloc),
                         format!(
                             "{type_name} '{id}': {}: expected a number, found '{w}'",
                             what()
@@ -395,13 +407,13 @@ impl<'o> Loader<'o> {
         }
         if !otype.string_count().accepts(ns) {
             return Err(Error::parse(
-                nloc,
+                src.at(nloc),
                 otype.string_count().mismatch(otype, &id, "string", ns),
             ));
         }
         if !otype.real_count().accepts(nr) {
             return Err(Error::parse(
-                mloc,
+                src.at(mloc),
                 otype.real_count().mismatch(otype, &id, "real", nr),
             ));
         }
@@ -429,18 +441,18 @@ impl<'o> Loader<'o> {
         mod_name: String,
         modifier: Option<Option<usize>>,
         id: String,
-        ctx: &str,
+        ctx: &dyn Fn() -> String,
     ) -> Result<()> {
         let (old, oloc) = src.word(ctx, &|| "the id of the aliased modifier".into())?;
         let Some(&target) = self.modifiers.get(&old) else {
             return Err(Error::parse(
-                oloc,
+                src.at(oloc),
                 format!("alias '{id}' refers to undefined modifier '{old}'"),
             ));
         };
         let Some(original) = self.objects.get(target) else {
             return Err(Error::parse(
-                oloc,
+                src.at(oloc),
                 format!("alias '{id}': bad reference '{old}'"),
             ));
         };
