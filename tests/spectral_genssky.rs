@@ -325,16 +325,19 @@ fn binary_writes_genssky_outputs() {
     };
     let c = &CASES[0];
     let t = common::tmpdir();
-    // Share the test table cache: -p decides both, so copy nothing, point RAYPATH at the
-    // library and let the binary use its own folder (the cache is checked, not trusted).
+    // -p . puts the picture and atmos_data/ here: seed it with the test cache's tables.
+    let atm = c.options().atmosphere(mie().unwrap());
+    let _ = cache::load_or_compute(&cache_dir(), &atm).unwrap();
+    let seeded = cache::path(t.path(), &atm);
+    std::fs::create_dir_all(seeded.parent().unwrap()).unwrap();
+    std::fs::copy(cache::path(&cache_dir(), &atm), &seeded).unwrap();
     let out = common::run_ok(
         common::ours("rspecsky")
             .current_dir(t.path())
             .env("RAYPATH", &lib)
-            .env("XDG_CACHE_HOME", cache_dir().join("xdg"))
             .args([
                 "genssky", "3", "2", "15.25", "-a", "42", "-o", "108", "-m", "110", "-r", "48",
-                "-f", "sky1",
+                "-f", "sky1", "-p", ".",
             ]),
         b"",
     );
@@ -349,6 +352,7 @@ fn binary_writes_genssky_outputs() {
         text.contains("#Aerosol profile: ") && text.contains("mie_ca.dat"),
         "{text}"
     );
+    assert!(text.contains("(cached)"), "{text}");
     let sun = read_rad(&text);
     let pic = Picture::open(t.path().join("sky1_sky.hsr")).unwrap();
     assert_eq!(pic.ncomp(), NSSAMP);
@@ -411,6 +415,19 @@ fn rdc_traces_our_sky_like_genssky_sky() {
     assert_eq!(a.len(), NSSAMP);
     let w = worst(&a, &b);
     println!("rdc horizontal irradiance, worst band: {:.2} %", 100.0 * w);
+    // And rdc saw both sun and sky: the picture's sky integral plus the sun's disc.
+    let sky_e = horizontal_irradiance(&sky.picture);
+    for b in 0..NSSAMP {
+        let k = NSSAMP - 1 - b;
+        let sun_e = sky.sun_spectrum[k] * sky.sun_intensity * 6.7967e-5 * sky.sun_direction[2];
+        let want = sky_e[b] + sun_e;
+        assert!(
+            (a[b] / want - 1.0).abs() < 0.05,
+            "band {b}: rdc {} vs sky {} + sun {sun_e}",
+            a[b],
+            sky_e[b]
+        );
+    }
     assert!(w < 0.05, "ours {a:?}\ngenssky {b:?}");
 }
 

@@ -7,7 +7,7 @@
 # profile mie_ca.dat comes from RAYPATH and is NOT copied here.
 #
 # Usage: radiance-fixtures/spectral/make_genssky_fixtures.sh   (RADIANCE_BIN as in ../)
-# Also writes genssky_manifest.tsv (case, CPU s, command).
+# Also writes genssky_manifest.tsv (case, wall-clock s on a shared machine, command).
 set -euo pipefail
 cd "$(dirname "$0")"
 source ../find_radiance.sh genssky make_genssky_fixtures.sh
@@ -23,7 +23,7 @@ CASES=(
 	"london_jun_L|6 21 10|-a 51.5 -o 0.1 -m 0 -L 80000 8000"
 	"tropic_jan_y|1 15 11|-a 10 -o -80 -m -75 -y 2024"
 )
-printf 'case\tcpu_s\tcommand\n' >genssky_manifest.tsv
+printf 'case\twall_s\tcommand\n' >genssky_manifest.tsv
 for c in "${CASES[@]}"; do
 	IFS='|' read -r name when opts <<<"$c"
 	# One scratch folder per case: genssky's cache name leaves out -g and rounds -d.
