@@ -25,6 +25,9 @@ use std::path::PathBuf;
 
 const NSSAMP: usize = 20;
 
+/// A named set of directions.
+type Region = fn([f64; 3]) -> bool;
+
 fn fixture(name: &str) -> PathBuf {
     common::repo().join("radiance-fixtures/spectral").join(name)
 }
@@ -227,7 +230,7 @@ fn agrees_with_genssky_fixtures() {
                 theirs_sun.dir
             );
         }
-        let regions: [(&str, fn([f64; 3]) -> bool); 3] = [
+        let regions: [(&str, Region); 3] = [
             ("hemisphere", |d| d[2] > 0.0),
             ("zenith", |d| d[2] > 0.8),
             ("horizon", |d| d[2] > 0.0 && d[2] < 0.2),

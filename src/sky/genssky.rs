@@ -635,7 +635,11 @@ mod tests {
     fn overcast_pattern_is_gensky_cie() {
         let z = overcast_zenith(1.0);
         assert!((overcast_brightness(1.0, z) - z).abs() < 1e-6 * z);
-        // Horizon: a third of the zenith.
-        assert!((overcast_brightness(0.0, z) / z - 1.0 / 3.0).abs() < 0.02);
+        // Above the horizon band: CIE overcast (1 + 2 sin a) / 3.
+        assert!((overcast_brightness(0.5, z) / z - 2.0 / 3.0).abs() < 0.005);
+        // At the horizon gensky blends towards the ground (weights 1.01^10 and 1.01^-10).
+        let (a, b) = (1.01f64.powi(10), 1.01f64.powi(-10));
+        let want = (a / 3.0 + b * GNORM) / (a + b);
+        assert!((overcast_brightness(0.0, z) / z - want).abs() < 1e-9);
     }
 }
