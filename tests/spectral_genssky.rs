@@ -511,3 +511,42 @@ fn bad_input_is_reported() {
         );
     }
 }
+
+/// How far the documented fallback aerosol profile (no `mie_ca.dat`: exponential, 1.2 km,
+/// Angstrom 1.3) lands from genssky's OPAC profile. Not a bound (a different atmosphere),
+/// a figure for the documentation: `cargo test --test spectral_genssky -- --ignored
+/// --nocapture fallback`.
+#[test]
+#[ignore]
+fn fallback_profile_against_genssky() {
+    let c = &CASES[0];
+    let o = c.options();
+    let atm = o.atmosphere(MieProfile::fallback());
+    let (t, _) = cache::load_or_compute(&cache_dir(), &atm).unwrap();
+    let sky = spectral_sky(&t, &o);
+    let theirs = Picture::open(fixture(&format!("genssky_{}_sky.hsr", c.name))).unwrap();
+    let theirs_sun =
+        read_rad(&std::fs::read_to_string(fixture(&format!("genssky_{}.rad", c.name))).unwrap());
+    let (ea, eb) = (
+        horizontal_irradiance(&sky.picture),
+        horizontal_irradiance(&theirs),
+    );
+    let sun: Vec<f64> = (0..NSSAMP)
+        .map(|k| sky.sun_spectrum[k] * sky.sun_intensity)
+        .collect();
+    println!(
+        "fallback profile, {}: E_h worst band {:.1} %, photopic E_h {:+.1} %, CCT {:.0}/{:.0} K; \
+         sun worst band {:.1} %, photopic sun {:+.1} %",
+        c.name,
+        100.0 * worst(&ea, &eb),
+        100.0 * rel(photopic(&ea), photopic(&eb)),
+        cct(&ea),
+        cct(&eb),
+        100.0 * worst(&sun, &theirs_sun.bands),
+        100.0
+            * rel(
+                photopic(&reversed(&sun)),
+                photopic(&reversed(&theirs_sun.bands))
+            )
+    );
+}

@@ -443,11 +443,16 @@ pub struct MieProfile {
     pub source: String,
 }
 
-/// Scale height of the fallback aerosol profile, m (Bruneton & Neyret 2008, sec. 3, after
-/// Nishita et al. 1993: Mie particle density falls off as exp(-h / 1.2 km)).
-pub const FALLBACK_MIE_SCALE_HEIGHT: f64 = 1200.0;
-/// Angstrom exponent of the fallback profile (Angstrom 1929's continental value 1.3).
+/// Scale height of the fallback aerosol profile, m: the effective height (optical depth over
+/// sea-level coefficient, 1.88 km at 550 nm) of the OPAC continental-average profile (Hess,
+/// Koepke and Schult 1998) that genssky ships as `mie_ca.dat`.
+pub const FALLBACK_MIE_SCALE_HEIGHT: f64 = 1900.0;
+/// Angstrom exponent of the fallback profile (that profile's 410-770 nm slope, 1.30; also
+/// Angstrom 1929's classic continental value 1.3).
 pub const FALLBACK_ANGSTROM: f64 = 1.3;
+/// Aerosol optical depth at 550 nm of the fallback profile at `-d 0.115` (that of the same
+/// OPAC profile, 0.0955).
+pub const FALLBACK_TAU550: f64 = 0.0955;
 
 impl MieProfile {
     /// Parse a Radiance data file (`getdata` format) with two axes: altitude in m (regular
@@ -528,10 +533,12 @@ impl MieProfile {
             .find(|p| p.is_file())
     }
 
-    /// The published fallback when no profile file is found: exponential density with a
-    /// 1.2 km scale height, spectral dependence (lambda/550 nm)^-1.3, normalised to an
-    /// optical depth of [`AOD_CONTINENTAL`] at 550 nm. Coarser than OPAC (no free
-    /// tropospheric layer), so skies differ from genssky's by a few percent.
+    /// The fallback when no profile file is found: exponential density with scale height
+    /// [`FALLBACK_MIE_SCALE_HEIGHT`], spectral dependence (lambda/550 nm)^-1.3 and optical
+    /// depth [`FALLBACK_TAU550`] at 550 nm, i.e. an exponential fit of the OPAC
+    /// continental-average profile. Measured against genssky with `mie_ca.dat`
+    /// (tests/spectral_genssky.rs, `fallback_profile_against_genssky`): see the module
+    /// doc of [`crate::sky::genssky`].
     pub fn fallback() -> MieProfile {
         let h = FALLBACK_MIE_SCALE_HEIGHT;
         // 100 m steps where the profile changes, 1 km above 12 km.
@@ -540,7 +547,7 @@ impl MieProfile {
             .chain((12..=60).map(|k| k as f64 * 1000.0))
             .collect();
         // Optical depth of exp(-z/h) up to 60 km is h (the tail is negligible).
-        let beta550 = AOD_CONTINENTAL / h;
+        let beta550 = FALLBACK_TAU550 / h;
         let coefficients = altitudes
             .iter()
             .map(|z| {
@@ -555,10 +562,11 @@ impl MieProfile {
         MieProfile {
             altitudes,
             coefficients,
-            name: "mie_exp1200".into(),
+            name: "mie_exp1900".into(),
             source: format!(
                 "exponential aerosol profile (scale height {h} m, Angstrom exponent \
-                 {FALLBACK_ANGSTROM}, tau550 {AOD_CONTINENTAL}; no mie_ca.dat found)"
+                 {FALLBACK_ANGSTROM}, tau550 {FALLBACK_TAU550} at -d 0.115; no mie_ca.dat \
+                 found)"
             ),
         }
     }
@@ -1502,7 +1510,7 @@ mod tests {
             tau += 0.5 * (a[8] + b[8]) * (w[1] - w[0]);
         }
         // Band 8 is 540-560 nm.
-        let want = AOD_CONTINENTAL * (550.0f64 / 550.0).powf(-FALLBACK_ANGSTROM);
+        let want = FALLBACK_TAU550;
         assert!((tau / want - 1.0).abs() < 0.02, "{tau}");
     }
 }
