@@ -39,3 +39,19 @@ for mf in 1 4; do
             (b > 0 ? a / b : 0), (d > 0 ? c / d : 0) }'
 done
 echo "(median of $runs runs; $(nproc) cores; load $(cut -d' ' -f1-3 /proc/loadavg))"
+
+# Point-in-time spectral skies (rspecsky genssky vs genssky, same sky, -r 128): the
+# precomputation (fresh table folder each run, one run each: it takes about a minute) and a
+# sky from cached tables (median of $runs runs).
+echo
+printf "%-22s %-10s %8s %8s\n" genssky_step program wall_s cpu_s
+gs_args=(3 2 15.25 -a 42 -o 108 -m 110 -r 128 -n "$(nproc)")
+for prog in genssky rspecsky; do
+    if [ "$prog" = genssky ]; then cmd=("$RADIANCE_BIN/genssky"); else cmd=("$ours" genssky); fi
+    rm -rf "$tmp/gs_$prog" && mkdir -p "$tmp/gs_$prog"
+    /usr/bin/time -f "%e %U %S" -o "$tmp/t" "${cmd[@]}" "${gs_args[@]}" -p "$tmp/gs_$prog" > "$tmp/out"
+    read -r pw pc < <(awk '{printf "%s %.2f\n", $1, $2 + $3}' "$tmp/t")
+    printf "%-22s %-10s %8s %8s\n" precompute "$prog" "$pw" "$pc"
+    read -r cw cc < <(measure "${cmd[@]}" "${gs_args[@]}" -p "$tmp/gs_$prog")
+    printf "%-22s %-10s %8s %8s\n" "sky (cached tables)" "$prog" "$cw" "$cc"
+done

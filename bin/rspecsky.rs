@@ -34,6 +34,8 @@ Examples:
   A gendaylit-style sky for 2 March 12:30, from the weather file or given irradiances:
     rspecsky --at \"3 2 12.5\" london.epw > sky.rad
     rspecsky --at \"3 2 12.5\" -W 838 79 -a 51.15 -o 0.18 -m 0 > sky.rad
+  A physically based spectral sky and sun as Radiance 6's genssky (same options):
+    rspecsky genssky 3 2 15.25 -a 42 -o 108 -m 110 -c 0.5 > sky.rad
     oconv sky.rad room.rad > room.oct";
 
 /// Perez all-weather sky matrices (gendaymtx) and point-in-time skies (gendaylit).
@@ -180,6 +182,9 @@ fn colours(m: &clap::ArgMatches, cli: &Cli, mut c: Colours) -> Colours {
 }
 
 fn real_main() -> Result<(), Error> {
+    if std::env::args().nth(1).as_deref() == Some("genssky") {
+        return genssky_mode();
+    }
     // Radiance spells the spectral options -cs/-cw; clap's short -c is the sky colour.
     let args = std::env::args().map(|a| match a.as_str() {
         "-cs" => "--cs".to_string(),
@@ -466,6 +471,186 @@ fn point_sky(m: &clap::ArgMatches, cli: &Cli) -> Result<(), Error> {
             ground: ground_colour,
         },
     );
+    let mut out = std::io::stdout().lock();
+    out.write_all(text.as_bytes())
+        .and_then(|_| out.flush())
+        .map_err(|e| Error::io("<stdout>", e))
+}
+
+/// `rspecsky genssky month day hour [options]`: Radiance 6 genssky's point-in-time
+/// spectral sky (Bruneton's precomputed atmosphere, rdaylight::sky::genssky).
+#[derive(Parser, Debug)]
+#[command(name = "rspecsky genssky", disable_help_flag = true)]
+struct GensskyCli {
+    /// Month (1-12).
+    month: String,
+    /// Day of the month.
+    day: String,
+    /// Local standard time in hours (15.25 or 15:15), +H for solar time, or with a zone
+    /// name (10PST).
+    hour: String,
+    /// Latitude, degrees north.
+    #[arg(short = 'a', allow_negative_numbers = true)]
+    latitude: Option<f64>,
+    /// Longitude, degrees west.
+    #[arg(short = 'o', allow_negative_numbers = true)]
+    longitude: Option<f64>,
+    /// Standard meridian, degrees west (UTC-8 = 120).
+    #[arg(short = 'm', allow_negative_numbers = true)]
+    meridian: Option<f64>,
+    /// Year: use the Michalsky solar position.
+    #[arg(short = 'y')]
+    year: Option<i32>,
+    /// Broadband aerosol optical depth (default 0.115).
+    #[arg(short = 'd', default_value_t = rdaylight::sky::atmosphere::AOD_CONTINENTAL)]
+    aod: f64,
+    /// Cloud cover, 0 clear to 1 overcast (default 0).
+    #[arg(short = 'c', default_value_t = 0.0)]
+    cloud: f64,
+    /// Ground reflectance (default 0.2).
+    #[arg(short = 'g', default_value_t = 0.2)]
+    ground: f64,
+    /// Aerosol profile (Radiance data file; default mie_ca.dat on RAYPATH, else an
+    /// exponential profile, named in the output header).
+    #[arg(short = 'l')]
+    mie: Option<String>,
+    /// Folder for the sky picture and atmos_data/ (default: picture in the current
+    /// folder, tables in the user cache folder).
+    #[arg(short = 'p')]
+    dir: Option<String>,
+    /// Sky picture width (height is half; default 64).
+    #[arg(short = 'r', default_value_t = 64)]
+    res: usize,
+    /// Sky picture name prefix (default "out": out_sky.hsr).
+    #[arg(short = 'f', default_value = "out")]
+    prefix: String,
+    /// Direct normal and diffuse horizontal illuminance, lux.
+    #[arg(short = 'L', num_args = 2, value_names = ["DIRNORM", "DIFHOR"])]
+    illuminance: Option<Vec<f64>>,
+    /// Threads for the precomputation (results do not depend on it).
+    #[arg(short = 'n', default_value_t = 0)]
+    threads: usize,
+    /// Highest scattering order (default 4).
+    #[arg(short = 'i', default_value_t = 4)]
+    order: usize,
+    /// Print help.
+    #[arg(long = "help", action = clap::ArgAction::Help)]
+    help: Option<bool>,
+}
+
+fn default_cache_dir() -> std::path::PathBuf {
+    if let Some(x) = std::env::var_os("XDG_CACHE_HOME").filter(|x| !x.is_empty()) {
+        return std::path::PathBuf::from(x).join("rdaylight");
+    }
+    if let Some(h) = std::env::var_os("HOME").filter(|x| !x.is_empty()) {
+        return std::path::PathBuf::from(h).join(".cache").join("rdaylight");
+    }
+    std::path::PathBuf::from(".")
+}
+
+fn genssky_mode() -> Result<(), Error> {
+    use rdaylight::sky::atmosphere::cache::CacheStatus;
+    use rdaylight::sky::genssky::{
+        GensskyOptions, Hour, load_mie, rad_text, sky_path, spectral_sky,
+    };
+    let args: Vec<String> = std::env::args().collect();
+    let rest = args
+        .iter()
+        .enumerate()
+        .filter(|(i, _)| *i != 1)
+        .map(|(_, a)| a.clone());
+    let cli = GensskyCli::try_parse_from(rest).unwrap_or_else(|e| e.exit());
+    let whole = |s: &str, what: &str| -> Result<u32, Error> {
+        s.parse::<u32>()
+            .map_err(|_| Error::Usage(format!("{what} \"{s}\": expected a whole number")))
+    };
+    let month = whole(&cli.month, "month")?;
+    let day = whole(&cli.day, "day")?;
+    let mut o = GensskyOptions::new(month, day, Hour::parse(&cli.hour)?);
+    if let Some(a) = cli.latitude {
+        o.site.latitude = a;
+    }
+    if let Some(v) = cli.longitude {
+        o.site.longitude_west = v;
+    }
+    if let Some(v) = cli.meridian {
+        o.site.meridian_west = v;
+    }
+    o.year = cli.year;
+    o.aod = cli.aod;
+    o.cloud_cover = cli.cloud;
+    o.ground_reflectance = cli.ground;
+    o.resolution = cli.res;
+    o.illuminance = cli.illuminance.as_ref().map(|v| (v[0], v[1]));
+    o.validate()?;
+    if o.hour.zone_meridian.is_none()
+        && !o.hour.solar
+        && (o.site.meridian_west - o.site.longitude_west).abs() > 45.0
+    {
+        eprintln!(
+            "rspecsky: warning - {:.1} hours btwn. standard meridian and longitude",
+            (o.site.longitude_west - o.site.meridian_west) / 15.0
+        );
+    }
+    let mie = load_mie(cli.mie.as_deref().map(std::path::Path::new))?;
+    let mie_source = mie.source.clone();
+    let mut atm = o.atmosphere(mie);
+    atm.scattering_order = cli.order;
+    let out_dir = cli.dir.clone().unwrap_or_else(|| ".".into());
+    let out_dir = if out_dir.len() > 1 {
+        out_dir.trim_end_matches('/').to_string()
+    } else {
+        out_dir
+    };
+    let cache_dir = match &cli.dir {
+        Some(_) => std::path::PathBuf::from(&out_dir),
+        None => default_cache_dir(),
+    };
+    let start = std::time::Instant::now();
+    let work = || rdaylight::sky::atmosphere::cache::load_or_compute(&cache_dir, &atm);
+    let (tables, status) = if cli.threads > 0 {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(cli.threads)
+            .build()
+            .map_err(|e| Error::Usage(format!("-n {}: {e}", cli.threads)))?
+            .install(work)?
+    } else {
+        work()?
+    };
+    let secs = start.elapsed().as_secs_f64();
+    let sky = spectral_sky(&tables, &o);
+    let hsr = sky_path(std::path::Path::new(&out_dir), &cli.prefix);
+    let sky_name = format!("{out_dir}/{}_sky.hsr", cli.prefix);
+    sky.picture.save(&hsr, false)?;
+    let mut words = args.clone();
+    if let Some(w) = words.first_mut() {
+        *w = "rspecsky".into();
+    }
+    let tables_note = match &status {
+        CacheStatus::Hit(p) => format!("#Atmosphere tables: {} (cached)", p.display()),
+        CacheStatus::Computed(p) => {
+            format!(
+                "#Atmosphere tables: {} (computed in {secs:.1} s)",
+                p.display()
+            )
+        }
+        CacheStatus::Recomputed(p, why) => format!(
+            "#Atmosphere tables: {} (recomputed in {secs:.1} s: {why})",
+            p.display()
+        ),
+    };
+    if let CacheStatus::Recomputed(p, why) = &status {
+        eprintln!("rspecsky: {}: {why}; recomputed", p.display());
+    }
+    let comments = vec![
+        format!("# {} ", words.join(" ")),
+        format!("#Cloud cover: {}", o.cloud_cover),
+        format!("#Ground reflectance: {}", o.ground_reflectance),
+        format!("#Sky map resolution: {}", o.resolution),
+        format!("#Aerosol profile: {mie_source}"),
+        tables_note,
+    ];
+    let text = rad_text(&sky, &comments, &sky_name);
     let mut out = std::io::stdout().lock();
     out.write_all(text.as_bytes())
         .and_then(|_| out.flush())
