@@ -34,5 +34,10 @@ fn real_main() -> Result<(), rdaylight::Error> {
             ));
         }
     };
+    if opts.output.is_some() && (!has_view || opts.mf.is_some() || opts.suns.is_some()) {
+        return Err(rdaylight::Error::Usage(
+            "-o FILE writes pictures: give view options (-vt.. -vp ..) and no -m/--suns".into(),
+        ));
+    }
     run::main(&opts, has_view.then_some(view), &command)
 }

@@ -78,3 +78,118 @@ fn symbolic_transforms_of_spectra_agree_with_rmtxop() {
         }
     }
 }
+
+fn spectral_fixture() -> std::path::PathBuf {
+    common::repo().join("radiance-fixtures/spectral")
+}
+
+/// A small picture of the spectral fixture room: to standard output, and with `-o`.
+fn fixture_picture(cs: &str, out: &std::path::Path) -> Vec<u8> {
+    let args = |o: Option<&std::path::Path>| {
+        let mut c = common::ours("rdc");
+        c.current_dir(spectral_fixture()).args([
+            "-vtv", "-vp", "2", "2.5", "1.2", "-vd", "1", "0", "-0.2", "-vh", "60", "-vv", "45",
+            "-x", "24", "-y", "18", "-ab", "2", "-ad", "16", "-s", "7", "-cs", cs,
+        ]);
+        if let Some(o) = o {
+            c.arg("-o").arg(o);
+        }
+        c.args(["room.rad", "sky_clear.rad"]);
+        c
+    };
+    let written = common::run_ok(&mut args(Some(out)), b"");
+    assert!(written.is_empty(), "-o must leave standard output empty");
+    common::run_ok(&mut args(None), b"")
+}
+
+/// The EXR, re-encoded as a Radiance picture, has exactly the pixels of the picture that
+/// went to standard output (same seed), and holds them unquantised: within the RGBE /
+/// common-exponent quantisation of each pixel, never beyond.
+fn check_exr_against_stdout(cs: &str, ncomp: usize) {
+    use rdaylight::formats::picture::Picture;
+    use rdaylight::formats::picture::exr::read_exr;
+    let t = common::tmpdir();
+    let exr = t.path().join("view.exr");
+    let hdr_bytes = fixture_picture(cs, &exr);
+    let hdr = Picture::read(&hdr_bytes[..], "<stdout>").unwrap();
+    let back = read_exr(&exr).unwrap();
+    // rdc keeps the view's aspect as rpict does (24 x 17 here).
+    assert_eq!(
+        (back.width, back.height, back.ncomp()),
+        (hdr.width, hdr.height, ncomp)
+    );
+    assert_eq!(back.width, 24);
+    assert_eq!(back.channels.ncomp, hdr.channels.ncomp);
+    assert_eq!(back.format, hdr.format);
+    if ncomp > 3 {
+        // Band layout from the EXR channel names equals the run's (-cs 18 over 380-780).
+        for i in 0..ncomp {
+            let (a, b) = (back.channels.band(i), hdr.channels.band(i));
+            assert!(
+                (a.0 - b.0).abs() < 1e-4 && (a.1 - b.1).abs() < 1e-4,
+                "band {i}"
+            );
+        }
+    }
+    // Re-encode the EXR values the way the stdout picture was encoded.
+    let mut again = Vec::new();
+    let mut p = back.clone();
+    p.header = hdr.header.clone();
+    p.write(&mut again, true).unwrap();
+    let requant = Picture::read(&again[..], "re-encoded").unwrap();
+    assert_eq!(
+        requant.data, hdr.data,
+        "-cs {cs}: EXR re-encoded differs from stdout"
+    );
+    // And the EXR is not just the quantised picture: it keeps more than 8 bits.
+    let mut finer = 0;
+    for (px_exr, px_hdr) in back.data.chunks(ncomp).zip(hdr.data.chunks(ncomp)) {
+        let max = px_exr.iter().fold(0f32, |m, v| m.max(v.abs()));
+        for (a, b) in px_exr.iter().zip(px_hdr) {
+            assert!((a - b).abs() <= max / 128.0 + 1e-30, "{a} vs {b}");
+            finer += usize::from(a != b);
+        }
+    }
+    assert!(finer > 0, "the EXR holds only quantised values");
+}
+
+#[test]
+fn rdc_writes_spectral_exr_pictures() {
+    check_exr_against_stdout("18", 18);
+}
+
+#[test]
+fn rdc_writes_rgb_exr_pictures() {
+    check_exr_against_stdout("3", 3);
+}
+
+#[test]
+fn rdc_o_writes_radiance_pictures_and_refuses_non_pictures() {
+    let t = common::tmpdir();
+    let hsr = t.path().join("view.hsr");
+    let stdout = fixture_picture("18", &hsr);
+    let file = std::fs::read(&hsr).unwrap();
+    // Same pixels (the headers' dates may differ by a second).
+    let body = |b: &[u8]| b[b.windows(2).position(|w| w == b"\n\n").unwrap()..].to_vec();
+    assert_eq!(body(&file), body(&stdout));
+    // Radiance reads it: getinfo shows the spectral header.
+    if common::have_radiance("rdc_o_writes_radiance_pictures") {
+        let info = common::run_ok(common::radiance("getinfo").arg(&hsr), b"");
+        let info = String::from_utf8_lossy(&info);
+        assert!(info.contains("NCOMP=18"), "{info}");
+        assert!(info.contains("FORMAT=Radiance_spectra"), "{info}");
+    }
+    // -o without a view is refused, and nothing is written.
+    let out = common::run(
+        common::ours("rdc")
+            .current_dir(spectral_fixture())
+            .args(["-I", "-o"])
+            .arg(t.path().join("x.exr"))
+            .arg("room.rad"),
+        b"2 2 1 0 0 1\n",
+    );
+    assert_eq!(out.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("-o FILE writes pictures"), "{err}");
+    assert!(!t.path().join("x.exr").exists());
+}

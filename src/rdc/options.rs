@@ -221,6 +221,13 @@ pub struct Options {
     #[arg(long = "no-exec")]
     pub no_exec: bool,
 
+    /// Write the picture to FILE instead of standard output (rpict/rtpict -o), replaced
+    /// only once complete: OpenEXR when FILE ends in .exr (32-bit float R G B, or one
+    /// channel per band named S0.<centre>nm, the spectral EXR layout of Fichet et al.
+    /// 2021; values unquantised), else the RGBE/Radiance_spectra picture. Pictures only.
+    #[arg(short = 'o', value_name = "FILE")]
+    pub output: Option<String>,
+
     /// Illuminance output for -I: one value per column, 179 x (0.265 R + 0.670 G + 0.065 B)
     /// lux, what rmtxop -c 47.4 119.9 11.6 or rcalc after rtrace -I gives. Not rtrace's
     /// -oi (intersection points), which rdc does not offer.
