@@ -278,6 +278,68 @@ fn invert3(m: &[[f64; 3]; 3]) -> [[f64; 3]; 3] {
     ]
 }
 
+/// Band means of the reflectance `ruplift` gives an RGB colour (linear Radiance RGB,
+/// equal-energy white; [`crate::uplift::Uplifter`] with `method`): what `rdc --uplift`
+/// puts in place of Radiance's step spectrum. Each band is the mean of the 5 nm spectrum's
+/// piecewise-linear interpolant over the band (zero outside 380-780 nm). `None` when the
+/// colour is not a reflectance (a channel outside [0, 1] or not finite).
+///
+/// The spectrum reproduces the colour under illuminant E exactly (CIE 1931, 5 nm; out of
+/// gamut: the closest the model reaches), so photopic values agree with Radiance's step
+/// spectrum under light close to equal-energy; under daylight they differ by the
+/// metamerism of the two spectra (measured in `tests/spectral_misc.rs`). Fits are cached
+/// per colour and method: a scene's surfaces share few colours.
+pub fn uplifted_bands(
+    rgb: [f64; 3],
+    ch: &Channels,
+    method: crate::uplift::Method,
+) -> Option<Vec<f64>> {
+    use crate::uplift::{Method, RgbSpace, Uplifter};
+    use std::collections::HashMap;
+    use std::sync::{Mutex, OnceLock};
+    if !rgb.iter().all(|v| (0.0..=1.0).contains(v)) {
+        return None;
+    }
+    if rgb == [0.0; 3] {
+        return Some(vec![0.0; ch.ncomp]);
+    }
+    type Key = ([u64; 3], bool);
+    static CACHE: OnceLock<Mutex<HashMap<Key, crate::uplift::Spectrum>>> = OnceLock::new();
+    static BASIS: OnceLock<Uplifter> = OnceLock::new();
+    static JAKOB: OnceLock<Uplifter> = OnceLock::new();
+    let key = (rgb.map(f64::to_bits), method == Method::Basis);
+    let cache = CACHE.get_or_init(|| Mutex::new(HashMap::new()));
+    let cached = cache.lock().ok().and_then(|c| c.get(&key).copied());
+    let spectrum = match cached {
+        Some(s) => s,
+        None => {
+            let u = match method {
+                Method::Basis => {
+                    BASIS.get_or_init(|| Uplifter::new(RgbSpace::Radiance, Method::Basis))
+                }
+                Method::Jakob => {
+                    JAKOB.get_or_init(|| Uplifter::new(RgbSpace::Radiance, Method::Jakob))
+                }
+            };
+            let s = u.uplift_rgb(rgb).spectrum;
+            if let Ok(mut c) = cache.lock() {
+                c.insert(key, s);
+            }
+            s
+        }
+    };
+    Some(
+        band_integrals(&spectrum, ch)
+            .iter()
+            .enumerate()
+            .map(|(i, a)| {
+                let (hi, lo) = ch.band(i);
+                if hi > lo { a / (hi - lo) } else { 0.0 }
+            })
+            .collect(),
+    )
+}
+
 /// Radiance 6's observer curves as the integer cumulative tables of `src/common/spec_rgb.c`
 /// (`cie_x_cumul` ... `melanopic_cumul`), which `spec_dot`/`spec_cie` and therefore
 /// `rmtxop -c`, `rcomb -c` and the renderers' `-pY`/`-pS`/`-pM` integrate band values with.

@@ -189,6 +189,7 @@ impl Prepared {
         let shading = ShadingOptions {
             dj: sampling.dj,
             st: sampling.st,
+            uplift: opts.uplift.into(),
             ..ShadingOptions::rcontrib()
         };
         let renderable = Renderable::compile(&scene, &channels, &shading)?;
