@@ -647,6 +647,35 @@ mod tests {
     }
 
     #[test]
+    fn uplift_applies_to_spectral_reflectances_only() {
+        let ch18 = Channels::spectral(18, 380.0, 780.0).unwrap();
+        let rgb = [0.7, 0.2, 0.1];
+        // Radiance's conversion is the default and what `Radiance` gives.
+        assert_eq!(
+            reflectance_to_channels(rgb, &ch18, RgbUplift::Radiance),
+            to_channels(rgb, &ch18)
+        );
+        assert_eq!(ShadingOptions::default().uplift, RgbUplift::Radiance);
+        // RGB runs and non-reflectances are left alone.
+        for how in [RgbUplift::Basis, RgbUplift::Jakob] {
+            assert_eq!(
+                reflectance_to_channels(rgb, &Channels::rgb(), how),
+                to_channels(rgb, &Channels::rgb())
+            );
+            assert_eq!(
+                reflectance_to_channels([2.0, 1.0, 0.5], &ch18, how),
+                to_channels([2.0, 1.0, 0.5], &ch18)
+            );
+            let up = reflectance_to_channels(rgb, &ch18, how);
+            assert_eq!(up.ncomp(), 18);
+            assert!(up.as_slice().iter().all(|&v| (0.0..=1.0).contains(&v)));
+            // Smooth: no step of Radiance's size (0.7 -> 0.2) between neighbouring bands.
+            let steps = up.as_slice().windows(2).map(|w| (w[0] - w[1]).abs());
+            assert!(steps.fold(0f32, f32::max) < 0.3, "{up:?}");
+        }
+    }
+
+    #[test]
     fn color_arithmetic_keeps_channels() {
         let a = Color::from_slice(&[1.0, 2.0, 3.0, 4.0]);
         let b = Color::splat(4, 0.5);
