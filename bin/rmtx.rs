@@ -185,8 +185,21 @@ fn real_main() -> Result<(), Error> {
         }
         // Cheap header checks first, so a mismatch is reported before any large load.
         let mut prev = (fname.clone(), fshape);
+        let first_ch = readers[0].info().channels;
         for r in &right {
             let s = r.info().shape();
+            // Spectral operands must cover the same bands (rmtxop does not check: it would
+            // multiply band i of one range by band i of another).
+            let ch = r.info().channels;
+            if ncomp > 3 && ch.ncomp == ncomp && ch.splits != first_ch.splits {
+                return Err(Error::Mismatch(format!(
+                    "{} (WAVELENGTH_SPLITS {:?}) cannot multiply {} ({:?}): the bands differ",
+                    fname,
+                    first_ch.splits,
+                    r.name(),
+                    ch.splits
+                )));
+            }
             if s.nrows.is_some() {
                 check_multiply(&prev.0, prev.1, r.name(), s)?;
             }

@@ -532,3 +532,49 @@ fn uplift_default_is_radiance_and_needs_spectral_bands() {
             .contains("--uplift basis|jakob changes spectral runs only")
     );
 }
+
+/// rmtx refuses spectral products whose bands differ, and symbolic letters it cannot map,
+/// with one line naming the input; nothing goes to standard output.
+#[test]
+fn rmtx_spectral_errors_are_one_line() {
+    let t = common::tmpdir();
+    let a = spectral_matrix(18);
+    let b = a
+        .replace("NROWS=3\nNCOLS=4", "NROWS=4\nNCOLS=2")
+        .replace("780 588 480 380", "830 588 480 360");
+    std::fs::write(t.path().join("a.mtx"), &a).unwrap();
+    // 4 rows x 2 columns of 18 bands, other splits.
+    let mut rows = String::new();
+    for _ in 0..4 {
+        rows.push_str(&"0.5 ".repeat(36));
+        rows.push('\n');
+    }
+    let head = b.split_once("\n\n").unwrap().0;
+    std::fs::write(t.path().join("b.mtx"), format!("{head}\n\n{rows}")).unwrap();
+    let out = common::run(
+        common::ours("rmtx")
+            .current_dir(t.path())
+            .args(["a.mtx", "b.mtx"]),
+        b"",
+    );
+    assert_eq!(out.status.code(), Some(1));
+    assert!(out.stdout.is_empty());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(
+        err.contains("a.mtx") && err.contains("b.mtx") && err.contains("the bands differ"),
+        "{err}"
+    );
+    let out = common::run(
+        common::ours("rmtx")
+            .current_dir(t.path())
+            .args(["-c", "Q", "a.mtx"]),
+        b"",
+    );
+    assert_eq!(out.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("-c 'Q' unsupported; expected a word of R G B X Y Z S M A"),
+        "{err}"
+    );
+}
