@@ -25,8 +25,14 @@
 //!
 //! Band integrals of tabulated curves ([`band_integrals`]) integrate the piecewise-linear
 //! interpolant of a 5 nm table exactly over each band; they turn band values into photopic,
-//! melanopic or CIE XYZ quantities (`spec_dot` in `spec_rgb.c` does the same with
-//! cumulative tables).
+//! melanopic or CIE XYZ quantities. Radiance's own way, integer cumulative tables over
+//! whole-nm band edges (`spec_dot`, `spec_cie` in `spec_rgb.c`), is [`spec_dot`] /
+//! [`spec_cie`] with the tables of [`Curve`] rebuilt from the CIE data: what `rmtx -c`
+//! uses on spectral matrices to match `rmtxop` to float precision. The two differ by up
+//! to a few 1e-3 of a band's weight.
+//!
+//! [`uplifted_bands`] replaces Radiance's RGB step spectrum by `ruplift`'s reflectance
+//! (`rdc --uplift`).
 
 use super::Color;
 use crate::radiometry::{Channels, DEFAULT_SPLITS, MAX_SAMPLES, STD_PRIMARIES, rgb_to_xyz};
