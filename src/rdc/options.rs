@@ -238,8 +238,9 @@ pub struct Options {
 
     /// Write the picture to FILE instead of standard output (rpict/rtpict -o), replaced
     /// only once complete: OpenEXR when FILE ends in .exr (32-bit float R G B, or one
-    /// channel per band named S0.<centre>nm, the spectral EXR layout of Fichet et al.
-    /// 2021; values unquantised), else the RGBE/Radiance_spectra picture. Pictures only.
+    /// channel per band named by its centre, e.g. S0.768,888889nm: the spectral EXR
+    /// layout of Fichet et al. 2021; values unquantised), else the RGBE/Radiance_spectra
+    /// picture. Pictures only.
     #[arg(short = 'o', value_name = "FILE")]
     pub output: Option<String>,
 
