@@ -5,7 +5,8 @@
 
 use clap::Parser;
 use rdaylight::formats::view::View;
-use rdaylight::rdc::{Options, options::radiance_args, run};
+use rdaylight::rdc::options::{Uplift, radiance_args};
+use rdaylight::rdc::{Options, run};
 
 fn main() {
     rdaylight::cli::run("rdc", real_main)
@@ -34,5 +35,15 @@ fn real_main() -> Result<(), rdaylight::Error> {
             ));
         }
     };
+    if opts.output.is_some() && (!has_view || opts.mf.is_some() || opts.suns.is_some()) {
+        return Err(rdaylight::Error::Usage(
+            "-o FILE writes pictures: give view options (-vt.. -vp ..) and no -m/--suns".into(),
+        ));
+    }
+    if opts.uplift != Uplift::Radiance && !opts.channels()?.is_spectral() {
+        return Err(rdaylight::Error::Usage(
+            "--uplift basis|jakob changes spectral runs only: add -cs N (N > 3)".into(),
+        ));
+    }
     run::main(&opts, has_view.then_some(view), &command)
 }

@@ -20,6 +20,8 @@ Examples:
     rmtx dc.mtx sky.smx -c 47.4 119.9 11.6 -fa > ill.txt
   Convert rcontrib's headerless ascii (-h, no -y) to float with a header:
     rcontrib -h -I+ ... | rmtx -ia -ff - > dc.mtx
+  Spectral coefficients times a spectral sky matrix, to illuminance and Radiance's M:
+    rmtx dc18.mtx sky18.smx -c YM -fa > ill_M.txt
   Stack sensor blocks computed on two machines:
     rmtx --cat part1.mtx part2.mtx > dc.mtx";
 
@@ -50,9 +52,12 @@ struct Cli {
     transpose: bool,
 
     /// Channel transform of the result (rmtxop -c): N x NCOMP coefficients, e.g.
-    /// `-c 47.4 119.9 11.6` (RGB irradiance to lux), or one symbolic word of R G B Y y A
-    /// (`-c Y` = 179 x (0.265106 0.670106 0.064788), row Y of Radiance's RGB-to-XYZ matrix
-    /// as rmtxop computes it).
+    /// `-c 47.4 119.9 11.6` (RGB irradiance to lux), or one symbolic word, one output
+    /// component per letter: R G B, X Y Z (x 179), S scotopic (x 412), M melanopic (x 179,
+    /// Radiance's equal-energy-normalised value: m-EDI = 0.9233 M), A mean; lower case
+    /// without the factor. On RGB, `-c Y` = 179 x (0.265106 0.670106 0.064788); on
+    /// spectral matrices (NCOMP > 3) the bands come from WAVELENGTH_SPLITS and are weighted
+    /// with Radiance's own observer tables, as rmtxop does.
     #[arg(short = 'c', num_args = 1.., allow_negative_numbers = true, value_name = "W")]
     coefs: Vec<String>,
 
@@ -180,8 +185,21 @@ fn real_main() -> Result<(), Error> {
         }
         // Cheap header checks first, so a mismatch is reported before any large load.
         let mut prev = (fname.clone(), fshape);
+        let first_ch = readers[0].info().channels;
         for r in &right {
             let s = r.info().shape();
+            // Spectral operands must cover the same bands (rmtxop does not check: it would
+            // multiply band i of one range by band i of another).
+            let ch = r.info().channels;
+            if ncomp > 3 && ch.ncomp == ncomp && ch.splits != first_ch.splits {
+                return Err(Error::Mismatch(format!(
+                    "{} (WAVELENGTH_SPLITS {:?}) cannot multiply {} ({:?}): the bands differ",
+                    fname,
+                    first_ch.splits,
+                    r.name(),
+                    ch.splits
+                )));
+            }
             if s.nrows.is_some() {
                 check_multiply(&prev.0, prev.1, r.name(), s)?;
             }
@@ -201,7 +219,15 @@ fn real_main() -> Result<(), Error> {
     let transform = if cli.coefs.is_empty() {
         None
     } else {
-        Some(ChannelTransform::parse(&cli.coefs, ncomp, "result")?)
+        // Symbolic words on spectral data need the bands: the first input's header.
+        Some(ChannelTransform::parse_for(
+            &cli.coefs,
+            &Channels {
+                ncomp,
+                ..readers[0].info().channels
+            },
+            "result",
+        )?)
     };
     let out_ncomp = transform.as_ref().map_or(ncomp, |t| t.nout);
     let factors = if cli.scale.is_empty() {

@@ -199,6 +199,44 @@ pub fn to_channels(rgb: [f64; 3], ch: &Channels) -> Color {
     }
 }
 
+/// How RGB material colours become spectral bands in spectral runs (`rdc --uplift`).
+///
+/// Only reflectances and transmittances (`plastic`, `metal`, `trans`, `mirror`, `glass`)
+/// with every channel in [0, 1] are uplifted; emitter colours (radiances) and anything
+/// outside [0, 1] always take Radiance's conversion. RGB and one-channel runs are not
+/// affected.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum RgbUplift {
+    /// Radiance 6's `setscolor` ([`to_channels`]): each band copies R, G or B by its centre
+    /// wavelength (split at 588 and 480 nm): a step spectrum, what `rtrace -cs N` does.
+    #[default]
+    Radiance,
+    /// `ruplift`'s default: the most probable smooth reflectance of the learned Munsell
+    /// basis that has exactly this colour ([`crate::uplift::Method::Basis`]).
+    Basis,
+    /// Jakob & Hanika (2019)'s sigmoid of a quadratic ([`crate::uplift::Method::Jakob`]).
+    Jakob,
+}
+
+/// [`to_channels`] for a reflectance or transmittance, uplifted as `how` says.
+pub fn reflectance_to_channels(rgb: [f64; 3], ch: &Channels, how: RgbUplift) -> Color {
+    let method = match how {
+        RgbUplift::Radiance => None,
+        RgbUplift::Basis => Some(crate::uplift::Method::Basis),
+        RgbUplift::Jakob => Some(crate::uplift::Method::Jakob),
+    };
+    match method {
+        Some(m) if ch.ncomp > 3 => match spectrum::uplifted_bands(rgb, ch, m) {
+            Some(v) => {
+                let v: Vec<f32> = v.iter().map(|&x| x as f32).collect();
+                Color::from_slice(&v)
+            }
+            None => to_channels(rgb, ch),
+        },
+        _ => to_channels(rgb, ch),
+    }
+}
+
 /// Run options that change shading (Radiance's `-dj`, `-st`, `-ss`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ShadingOptions {
@@ -214,6 +252,9 @@ pub struct ShadingOptions {
     /// installed binaries use; master corrected it to [`ward::FRESNEL_OFFSET_MASTER`] (the
     /// value radiance-notes.md 5.1 quotes). The two differ by under 0.2 %.
     pub fresnel_offset: f64,
+    /// RGB reflectances and transmittances in spectral runs ([`RgbUplift`]; default
+    /// Radiance's conversion).
+    pub uplift: RgbUplift,
 }
 
 impl ShadingOptions {
@@ -224,6 +265,7 @@ impl ShadingOptions {
             st: 0.02,
             specular: SpecularWeight::Radiance,
             fresnel_offset: ward::FRESNEL_OFFSET_RELEASE,
+            uplift: RgbUplift::Radiance,
         }
     }
 
@@ -234,6 +276,7 @@ impl ShadingOptions {
             st: 0.15,
             specular: SpecularWeight::Radiance,
             fresnel_offset: ward::FRESNEL_OFFSET_RELEASE,
+            uplift: RgbUplift::Radiance,
         }
     }
 }
@@ -390,6 +433,7 @@ impl Material {
         id: &str,
         pattern: Option<Color>,
     ) -> Result<Option<Material>> {
+        let refl = |c: [f64; 3]| reflectance_to_channels(c, ch, opts.uplift);
         let tint = |c: Color| match pattern {
             Some(pc) if pc.ncomp() == c.ncomp() => c * pc,
             _ => c,
@@ -426,7 +470,7 @@ impl Material {
                 rough: r,
             } => Material::Ward(Ward::new(
                 WardKind::Plastic,
-                tint(to_channels(rgb(color)?, ch)),
+                tint(refl(rgb(color)?)),
                 unit("specularity", *spec)?,
                 rough(*r)?,
                 0.0,
@@ -439,7 +483,7 @@ impl Material {
                 rough: r,
             } => Material::Ward(Ward::new(
                 WardKind::Metal,
-                tint(to_channels(rgb(color)?, ch)),
+                tint(refl(rgb(color)?)),
                 unit("specularity", *spec)?,
                 rough(*r)?,
                 0.0,
@@ -454,7 +498,7 @@ impl Material {
                 tspec,
             } => Material::Ward(Ward::new(
                 WardKind::Trans,
-                tint(to_channels(rgb(color)?, ch)),
+                tint(refl(rgb(color)?)),
                 unit("specularity", *spec)?,
                 rough(*r)?,
                 unit("transmissivity", *trans)?,
@@ -471,12 +515,10 @@ impl Material {
                         "has refractive index {n}; expected a finite value > 0"
                     )));
                 }
-                Material::Glass(
-                    Glass::new(to_channels(rgb(transmissivity)?, ch), n).with_pattern(pattern),
-                )
+                Material::Glass(Glass::new(refl(rgb(transmissivity)?), n).with_pattern(pattern))
             }
             Primitive::Mirror { alternate, color } => Material::Mirror(Mirror {
-                color: tint(to_channels(rgb(color)?, ch)),
+                color: tint(refl(rgb(color)?)),
                 alternate: alternate.clone().filter(|a| a != "void"),
             }),
             Primitive::Light { color } => Material::Emitter(Emitter {
@@ -602,6 +644,35 @@ mod tests {
             &Channels::spectral(5, 500.0, 560.0).unwrap(),
         );
         assert!(c.as_slice().iter().all(|&x| x == 0.2));
+    }
+
+    #[test]
+    fn uplift_applies_to_spectral_reflectances_only() {
+        let ch18 = Channels::spectral(18, 380.0, 780.0).unwrap();
+        let rgb = [0.7, 0.2, 0.1];
+        // Radiance's conversion is the default and what `Radiance` gives.
+        assert_eq!(
+            reflectance_to_channels(rgb, &ch18, RgbUplift::Radiance),
+            to_channels(rgb, &ch18)
+        );
+        assert_eq!(ShadingOptions::default().uplift, RgbUplift::Radiance);
+        // RGB runs and non-reflectances are left alone.
+        for how in [RgbUplift::Basis, RgbUplift::Jakob] {
+            assert_eq!(
+                reflectance_to_channels(rgb, &Channels::rgb(), how),
+                to_channels(rgb, &Channels::rgb())
+            );
+            assert_eq!(
+                reflectance_to_channels([2.0, 1.0, 0.5], &ch18, how),
+                to_channels([2.0, 1.0, 0.5], &ch18)
+            );
+            let up = reflectance_to_channels(rgb, &ch18, how);
+            assert_eq!(up.ncomp(), 18);
+            assert!(up.as_slice().iter().all(|&v| (0.0..=1.0).contains(&v)));
+            // Smooth: no step of Radiance's size (0.7 -> 0.2) between neighbouring bands.
+            let steps = up.as_slice().windows(2).map(|w| (w[0] - w[1]).abs());
+            assert!(steps.fold(0f32, f32::max) < 0.3, "{up:?}");
+        }
     }
 
     #[test]

@@ -25,8 +25,14 @@
 //!
 //! Band integrals of tabulated curves ([`band_integrals`]) integrate the piecewise-linear
 //! interpolant of a 5 nm table exactly over each band; they turn band values into photopic,
-//! melanopic or CIE XYZ quantities (`spec_dot` in `spec_rgb.c` does the same with
-//! cumulative tables).
+//! melanopic or CIE XYZ quantities. Radiance's own way, integer cumulative tables over
+//! whole-nm band edges (`spec_dot`, `spec_cie` in `spec_rgb.c`), is [`spec_dot`] /
+//! [`spec_cie`] with the tables of [`Curve`] rebuilt from the CIE data: what `rmtx -c`
+//! uses on spectral matrices to match `rmtxop` to float precision. The two differ by up
+//! to a few 1e-3 of a band's weight.
+//!
+//! [`uplifted_bands`] replaces Radiance's RGB step spectrum by `ruplift`'s reflectance
+//! (`rdc --uplift`).
 
 use super::Color;
 use crate::radiometry::{Channels, DEFAULT_SPLITS, MAX_SAMPLES, STD_PRIMARIES, rgb_to_xyz};
@@ -278,6 +284,256 @@ fn invert3(m: &[[f64; 3]; 3]) -> [[f64; 3]; 3] {
     ]
 }
 
+/// Band means of the reflectance `ruplift` gives an RGB colour (linear Radiance RGB,
+/// equal-energy white; [`crate::uplift::Uplifter`] with `method`): what `rdc --uplift`
+/// puts in place of Radiance's step spectrum. Each band is the mean of the 5 nm spectrum's
+/// piecewise-linear interpolant over the band (zero outside 380-780 nm). `None` when the
+/// colour is not a reflectance (a channel outside [0, 1] or not finite).
+///
+/// The spectrum reproduces the colour under illuminant E exactly (CIE 1931, 5 nm; out of
+/// gamut: the closest the model reaches), so photopic values agree with Radiance's step
+/// spectrum under light close to equal-energy; under daylight they differ by the
+/// metamerism of the two spectra (measured in `tests/spectral_misc.rs`). Fits are cached
+/// per colour and method: a scene's surfaces share few colours.
+pub fn uplifted_bands(
+    rgb: [f64; 3],
+    ch: &Channels,
+    method: crate::uplift::Method,
+) -> Option<Vec<f64>> {
+    use crate::uplift::{Method, RgbSpace, Uplifter};
+    use std::collections::HashMap;
+    use std::sync::{Mutex, OnceLock};
+    if !rgb.iter().all(|v| (0.0..=1.0).contains(v)) {
+        return None;
+    }
+    if rgb == [0.0; 3] {
+        return Some(vec![0.0; ch.ncomp]);
+    }
+    type Key = ([u64; 3], bool);
+    static CACHE: OnceLock<Mutex<HashMap<Key, crate::uplift::Spectrum>>> = OnceLock::new();
+    static BASIS: OnceLock<Uplifter> = OnceLock::new();
+    static JAKOB: OnceLock<Uplifter> = OnceLock::new();
+    let key = (rgb.map(f64::to_bits), method == Method::Basis);
+    let cache = CACHE.get_or_init(|| Mutex::new(HashMap::new()));
+    let cached = cache.lock().ok().and_then(|c| c.get(&key).copied());
+    let spectrum = match cached {
+        Some(s) => s,
+        None => {
+            let u = match method {
+                Method::Basis => {
+                    BASIS.get_or_init(|| Uplifter::new(RgbSpace::Radiance, Method::Basis))
+                }
+                Method::Jakob => {
+                    JAKOB.get_or_init(|| Uplifter::new(RgbSpace::Radiance, Method::Jakob))
+                }
+            };
+            let s = u.uplift_rgb(rgb).spectrum;
+            if let Ok(mut c) = cache.lock() {
+                c.insert(key, s);
+            }
+            s
+        }
+    };
+    Some(
+        band_integrals(&spectrum, ch)
+            .iter()
+            .enumerate()
+            .map(|(i, a)| {
+                let (hi, lo) = ch.band(i);
+                if hi > lo { a / (hi - lo) } else { 0.0 }
+            })
+            .collect(),
+    )
+}
+
+/// Radiance 6's observer curves as the integer cumulative tables of `src/common/spec_rgb.c`
+/// (`cie_x_cumul` ... `melanopic_cumul`), which `spec_dot`/`spec_cie` and therefore
+/// `rmtxop -c`, `rcomb -c` and the renderers' `-pY`/`-pS`/`-pM` integrate band values with.
+///
+/// We do not copy those tables: they are rebuilt from the 1 nm CIE data in `data/spectra/`
+/// by the rule they follow (found by comparing with Radiance's tables; cumulative sums
+/// normalised to 65535 over the whole 360-830 nm table):
+/// - CIE 1931 x̄, ȳ, z̄: `C(w) = round(65535 S(w + 2) / S_total)`, `S(u)` the sum of the
+///   1 nm samples below `u` nm: every entry of the three Radiance tables is reproduced;
+/// - melanopic (CIE S 026 s_mel): `floor(65535 S(w + 1) / S_total)`: every entry but the
+///   last, which Radiance pins at 65535 (so do we);
+/// - scotopic (CIE 1951 V'(λ), S 026's rhodopic column): `floor(65535 S(w) / S_total)`:
+///   within one unit (1.5e-5 of the curve's area) of Radiance's table, which was built from
+///   slightly different V'(λ) values (47 of 303 entries differ by one).
+///
+/// The ranges (first and last tabulated nm) are Radiance's `CIE_X_WLMIN` ... constants.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Curve {
+    X,
+    Y,
+    Z,
+    Scotopic,
+    Melanopic,
+}
+
+/// One cumulative table: `values[w - wlmin]` for `wlmin <= w <= wlmax`, 0 below, 65535 above.
+#[derive(Debug, Clone)]
+pub struct Cumulative {
+    pub wlmin: i32,
+    pub wlmax: i32,
+    pub values: Vec<f64>,
+}
+
+impl Cumulative {
+    /// The table value at integer wavelength `w` (nm), clamped to the table's ends.
+    pub fn at(&self, w: i32) -> f64 {
+        if w <= self.wlmin {
+            self.values.first().copied().unwrap_or(0.0)
+        } else if w >= self.wlmax {
+            CUMUL_FULL
+        } else {
+            self.values[(w - self.wlmin) as usize]
+        }
+    }
+}
+
+/// Radiance's full scale of a cumulative table.
+pub const CUMUL_FULL: f64 = 65535.0;
+
+impl Curve {
+    /// The rebuilt table (built once per curve).
+    pub fn cumulative(self) -> &'static Cumulative {
+        use std::sync::OnceLock;
+        static T: OnceLock<[Cumulative; 5]> = OnceLock::new();
+        let all = T.get_or_init(|| {
+            let cmf = one_nm_table(
+                include_str!("../../data/spectra/cie1931_2deg_cmf.csv"),
+                "cie1931_2deg_cmf.csv",
+            );
+            let s026 = one_nm_table(
+                include_str!("../../data/spectra/cie_s026_alpha_opic_action_spectra.csv"),
+                "cie_s026_alpha_opic_action_spectra.csv",
+            );
+            let col = |t: &crate::uplift::colorimetry::Table, name: &str| {
+                let c = t.columns.iter().position(|c| c == name).unwrap_or(1);
+                t.rows
+                    .iter()
+                    .map(|r| (r[0], r.get(c).copied().unwrap_or(0.0)))
+                    .collect::<Vec<_>>()
+            };
+            let round = |x: f64| x.round();
+            let floor = |x: f64| x.floor();
+            [
+                build_cumulative(&col(&cmf, "xbar"), 362, 774, 2, round),
+                build_cumulative(&col(&cmf, "ybar"), 386, 760, 2, round),
+                build_cumulative(&col(&cmf, "zbar"), 359, 624, 2, round),
+                build_cumulative(&col(&s026, "rhodopic"), 382, 684, 0, floor),
+                build_cumulative(&col(&s026, "melanopic"), 380, 651, 1, floor),
+            ]
+        });
+        &all[self as usize]
+    }
+}
+
+fn one_nm_table(text: &str, name: &str) -> crate::uplift::colorimetry::Table {
+    // Compiled-in data: a failure is a build defect (and the tests parse every table).
+    crate::uplift::colorimetry::Table::parse(text, name)
+        .unwrap_or_else(|e| panic!("embedded table {name}: {e}"))
+}
+
+/// Cumulative sums of 1 nm samples `(nm, value)`, shifted by `offset` nm, normalised to
+/// 65535 over the whole table and rounded by `rnd`; the last entry is full scale.
+fn build_cumulative(
+    samples: &[(f64, f64)],
+    wlmin: i32,
+    wlmax: i32,
+    offset: i32,
+    rnd: impl Fn(f64) -> f64,
+) -> Cumulative {
+    let total: f64 = samples.iter().map(|s| s.1).sum();
+    let mut values: Vec<f64> = (wlmin..=wlmax)
+        .map(|w| {
+            let upto = (w + offset) as f64;
+            let s: f64 = samples.iter().filter(|p| p.0 < upto).map(|p| p.1).sum();
+            rnd(CUMUL_FULL * s / total)
+        })
+        .collect();
+    if let Some(last) = values.last_mut() {
+        *last = CUMUL_FULL;
+    }
+    Cumulative {
+        wlmin,
+        wlmax,
+        values,
+    }
+}
+
+/// Radiance's `spec_dot`: the dot product of band values `v` (layout `ch`, longest
+/// wavelength first) with a curve, as a fraction of the curve's area (equal-energy white,
+/// all bands 1, gives 1). Band edges are truncated to whole nm the way Radiance computes
+/// them (from its `float` splits, in double); a 3-band value uses the splits themselves
+/// (blue 380-480, green 480-588, red 588-780 by default).
+pub fn spec_dot(v: &[f64], ch: &Channels, curve: Curve) -> f64 {
+    let t = curve.cumulative();
+    let ncs = v.len();
+    if ncs == 0 {
+        return 0.0;
+    }
+    // Radiance keeps WAVELENGTH_SPLITS as float.
+    let wl: [f64; 4] = ch.splits.map(|x| x as f32 as f64);
+    let step = (wl[0] - wl[3]) / ncs as f64;
+    let mut wl1 = wl[3] as i32;
+    let mut n = 0usize;
+    if wl1 < t.wlmin {
+        n += ((t.wlmin - wl1) as f64 / step) as usize;
+        wl1 = t.wlmin;
+    } else if wl1 >= t.wlmax {
+        return 0.0;
+    }
+    let mut sum = 0.0;
+    while n < ncs {
+        let wl0 = wl1;
+        wl1 = if ncs == 3 {
+            wl[2 - n] as i32
+        } else {
+            (wl[3] + (n + 1) as f64 * step) as i32
+        };
+        let value = v[ncs - 1 - n];
+        if wl1 >= t.wlmax {
+            sum += (CUMUL_FULL - t.at(wl0)) * value;
+            break;
+        }
+        sum += (t.at(wl1) - t.at(wl0)) * value;
+        n += 1;
+    }
+    sum / CUMUL_FULL
+}
+
+/// Radiance's `spec_cie`: CIE XYZ (unit-area curves) of equal-energy light between `s` and
+/// `e` nm (whole nm, either order).
+pub fn spec_cie(s: i32, e: i32) -> [f64; 3] {
+    let (s, e) = if s > e { (e, s) } else { (s, e) };
+    [Curve::X, Curve::Y, Curve::Z].map(|c| {
+        let t = c.cumulative();
+        if s >= t.wlmax || e <= t.wlmin {
+            0.0
+        } else {
+            (t.at(e) - t.at(s)) / CUMUL_FULL
+        }
+    })
+}
+
+/// Band edges of band `i` of `ch` as whole nm `(start, end)`, computed the way `rmtxop`
+/// does for its RGB and XYZ rows (`rgbrow`, `xyzrow`: float arithmetic, truncated).
+pub fn band_edges_nm(ch: &Channels, i: usize) -> (i32, i32) {
+    let w0 = ch.splits[0] as f32;
+    let w3 = ch.splits[3] as f32;
+    let nc = ch.ncomp as f32;
+    let end = w0 + (w3 - w0) * i as f32 / nc;
+    let start = w0 + (w3 - w0) * (i + 1) as f32 / nc;
+    (start as i32, end as i32)
+}
+
+/// Radiance's `xyz2rgbmat`: CIE XYZ to its standard RGB primaries (no white balance).
+pub fn xyz_to_std_rgb() -> [[f64; 3]; 3] {
+    invert3(&rgb_to_xyz(&STD_PRIMARIES))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -348,6 +604,40 @@ mod tests {
         let xyz = band_xyz(&[1.0; 18], &ch(18));
         for v in xyz {
             assert!((v - 1.0).abs() < 1e-9, "{xyz:?}");
+        }
+    }
+
+    #[test]
+    fn radiance_cumulative_tables() {
+        // Entries of Radiance's tables (spec_rgb.c), rebuilt from the 1 nm CIE data.
+        let x = Curve::X.cumulative();
+        assert_eq!(
+            (x.at(379), x.at(380), x.at(402), x.at(480)),
+            (7.0, 8.0, 108.0, 10566.0)
+        );
+        for c in [
+            Curve::X,
+            Curve::Y,
+            Curve::Z,
+            Curve::Scotopic,
+            Curve::Melanopic,
+        ] {
+            let t = c.cumulative();
+            assert_eq!(t.at(t.wlmin), 0.0, "{c:?}");
+            assert_eq!(t.at(t.wlmax), CUMUL_FULL, "{c:?}");
+            assert!(t.values.windows(2).all(|w| w[0] <= w[1]), "{c:?}");
+            // Equal-energy white: the whole curve.
+            for n in [3, 9, 18, 24] {
+                let d = spec_dot(&vec![1.0; n], &ch(n.max(4)), c);
+                let d = if n == 3 {
+                    spec_dot(&[1.0; 3], &Channels::rgb(), c)
+                } else {
+                    d
+                };
+                // x̄ and z̄ start below 380 nm, where the bands do not reach.
+                let want = 1.0 - t.at(380) / CUMUL_FULL;
+                assert!((d - want).abs() < 1e-12, "{c:?} {n}: {d}");
+            }
         }
     }
 }

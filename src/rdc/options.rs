@@ -150,6 +150,21 @@ pub struct Options {
     #[arg(long = "cw", num_args = 2, value_names = ["MIN", "MAX"])]
     pub cw: Option<Vec<f64>>,
 
+    /// How RGB reflectances and transmittances (plastic, metal, trans, mirror, glass)
+    /// become bands under -cs N (N > 3). radiance (default): as Radiance 6 does
+    /// (setscolor), each band copies R, G or B by its centre wavelength (R above 588 nm, G
+    /// 480-588, B below): a step spectrum, identical to rtrace/rcontrib -cs N. basis:
+    /// ruplift's default, the most probable smooth reflectance of a basis learned on
+    /// measured Munsell chips with exactly that colour. jakob: Jakob & Hanika 2019's
+    /// smooth sigmoid spectrum. Light sources and colours outside [0, 1] always take
+    /// Radiance's conversion; spectrum/specfile patterns are unaffected.
+    #[arg(
+        long = "uplift",
+        value_name = "radiance|basis|jakob",
+        default_value = "radiance"
+    )]
+    pub uplift: Uplift,
+
     /// Input/output formats, rtrace's -f[io]: a ascii, f float, d double; c (output only)
     /// RGBE/Radiance_spectra rows. One letter sets both (-ff reads float rays); -faf reads
     /// ascii and writes float. Default -faa. Pictures are always RGBE (or spectra).
@@ -221,6 +236,14 @@ pub struct Options {
     #[arg(long = "no-exec")]
     pub no_exec: bool,
 
+    /// Write the picture to FILE instead of standard output (rpict/rtpict -o), replaced
+    /// only once complete: OpenEXR when FILE ends in .exr (32-bit float R G B, or one
+    /// channel per band named by its centre, e.g. S0.768,888889nm: the spectral EXR
+    /// layout of Fichet et al. 2021; values unquantised), else the RGBE/Radiance_spectra
+    /// picture. Pictures only.
+    #[arg(short = 'o', value_name = "FILE")]
+    pub output: Option<String>,
+
     /// Illuminance output for -I: one value per column, 179 x (0.265 R + 0.670 G + 0.065 B)
     /// lux, what rmtxop -c 47.4 119.9 11.6 or rcalc after rtrace -I gives. Not rtrace's
     /// -oi (intersection points), which rdc does not offer.
@@ -234,6 +257,24 @@ pub struct Options {
     /// Scene files (.rad), `-` (standard input) or `!command`.
     #[arg(value_name = "SCENE")]
     pub scene: Vec<String>,
+}
+
+/// `--uplift` values (see [`crate::material::RgbUplift`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Uplift {
+    Radiance,
+    Basis,
+    Jakob,
+}
+
+impl From<Uplift> for crate::material::RgbUplift {
+    fn from(u: Uplift) -> Self {
+        match u {
+            Uplift::Radiance => crate::material::RgbUplift::Radiance,
+            Uplift::Basis => crate::material::RgbUplift::Basis,
+            Uplift::Jakob => crate::material::RgbUplift::Jakob,
+        }
+    }
 }
 
 /// `--preset` values.

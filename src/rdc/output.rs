@@ -10,6 +10,12 @@
 //! ASCII rows as rcontrib's `put_contrib` and rtrace: each component `%.6e` and a TAB, a
 //! newline after each record. Pictures: the header rpict writes (command, `VIEW=`,
 //! `SOFTWARE=`, dates, `FORMAT=32-bit_rle_rgbe`), new-style RLE scanlines, top row first.
+//!
+//! `-o FILE` (rpict's and rtpict's option letter for an output file) writes the picture to
+//! FILE instead, replacing it only once the picture is complete: OpenEXR when the name ends
+//! in `.exr` (32-bit float `R G B`, or one `S0.<centre>nm` channel per band in the spectral
+//! layout of Fichet et al. 2021, [`crate::formats::picture::exr`]), which keeps the values
+//! unquantised; otherwise the same RGBE/Radiance_spectra picture as on standard output.
 
 use super::options::Options;
 use super::run::RecordResult;
@@ -17,8 +23,9 @@ use crate::error::{Error, Result};
 use crate::formats::header::Header;
 use crate::formats::matrix::ascii::push_e;
 use crate::formats::matrix::{DataFormat, MatrixWriter, WriteOptions};
+use crate::formats::picture::exr::write_exr_to;
 use crate::formats::picture::resolution::Resolution;
-use crate::formats::picture::{PictureWriter, PixelFormat};
+use crate::formats::picture::{Picture, PictureWriter, PixelFormat};
 use crate::formats::view::View;
 use crate::radiometry::Channels;
 use std::io::Write;
@@ -79,6 +86,20 @@ pub enum Sink<W: Write> {
     Matrix(MatrixWriter<W>),
     /// A picture: one row = one scanline.
     Picture(PictureWriter<W>, Vec<f32>),
+    /// `-o FILE`: the picture collected in memory and written on [`Sink::finish`], as
+    /// OpenEXR when the name ends in `.exr`, else as a Radiance picture; atomically.
+    File {
+        path: String,
+        picture: Picture,
+        next_row: usize,
+    },
+}
+
+/// Whether `-o` names an OpenEXR file (by extension, any case).
+pub fn is_exr(path: &str) -> bool {
+    std::path::Path::new(path)
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("exr"))
 }
 
 impl<W: Write> Sink<W> {
@@ -151,6 +172,32 @@ impl<W: Write> Sink<W> {
         Ok(Sink::Picture(pw, Vec::new()))
     }
 
+    /// A picture to standard output (`out = None`) or to the file `-o` names.
+    pub fn picture_to(
+        out: Option<&str>,
+        w: W,
+        header: Header,
+        xres: usize,
+        yres: usize,
+        channels: Channels,
+    ) -> Result<Self> {
+        let Some(path) = out else {
+            return Self::picture(w, header, xres, yres, channels);
+        };
+        let format = if channels.ncomp == 3 {
+            PixelFormat::Rgbe
+        } else {
+            PixelFormat::Spectra
+        };
+        let mut picture = Picture::new(xres, yres, channels, format);
+        picture.header = header;
+        Ok(Sink::File {
+            path: path.to_string(),
+            picture,
+            next_row: 0,
+        })
+    }
+
     pub fn write_row(&mut self, values: &[f64]) -> Result<()> {
         match self {
             Sink::Ascii { w, row } => {
@@ -168,6 +215,25 @@ impl<W: Write> Sink<W> {
                 buf.extend(values.iter().map(|&v| v as f32));
                 p.write_scanline(buf)
             }
+            Sink::File {
+                path,
+                picture,
+                next_row,
+            } => {
+                let len = picture.width * picture.ncomp();
+                let at = *next_row * len;
+                if values.len() != len || at + len > picture.data.len() {
+                    return Err(Error::Mismatch(format!(
+                        "{path}: scanline {next_row} of {} values; expected {len}",
+                        values.len()
+                    )));
+                }
+                for (d, v) in picture.data[at..at + len].iter_mut().zip(values) {
+                    *d = *v as f32;
+                }
+                *next_row += 1;
+                Ok(())
+            }
         }
     }
 
@@ -184,6 +250,30 @@ impl<W: Write> Sink<W> {
             Sink::Ascii { mut w, .. } => w.flush().map_err(|e| Error::io(STDOUT, e)),
             Sink::Matrix(m) => m.finish().map(|_| ()),
             Sink::Picture(p, _) => p.finish().map(|_| ()),
+            Sink::File {
+                path,
+                picture,
+                next_row,
+            } => {
+                if next_row != picture.height {
+                    return Err(Error::Mismatch(format!(
+                        "{path}: {next_row} of {} scanlines computed",
+                        picture.height
+                    )));
+                }
+                let exr = is_exr(&path);
+                crate::cli::write_atomically(std::path::Path::new(&path), |w| {
+                    if exr {
+                        // The exr crate writes to a seekable stream: build it in memory.
+                        let mut buf = std::io::Cursor::new(Vec::new());
+                        write_exr_to(&picture, &mut buf)
+                            .map_err(|e| Error::Usage(format!("{path}: {e}")))?;
+                        w.write_all(buf.get_ref()).map_err(|e| Error::io(&path, e))
+                    } else {
+                        picture.write(w, true)
+                    }
+                })
+            }
         }
     }
 }

@@ -189,6 +189,7 @@ impl Prepared {
         let shading = ShadingOptions {
             dj: sampling.dj,
             st: sampling.st,
+            uplift: opts.uplift.into(),
             ..ShadingOptions::rcontrib()
         };
         let renderable = Renderable::compile(&scene, &channels, &shading)?;
@@ -687,7 +688,14 @@ fn picture(
         )?
     } else {
         let header = output::header(command, Some(cam.view()), &channels, None, 0, format);
-        Sink::picture(stdout.lock(), header, xres, yres, channels)?
+        Sink::picture_to(
+            opts.output.as_deref(),
+            stdout.lock(),
+            header,
+            xres,
+            yres,
+            channels,
+        )?
     };
     let progress = Progress {
         show: crate::cli::show_progress(),

@@ -14,11 +14,33 @@
 //! rmtxop computes it); lower case `y` omits 179.
 //! Note: real rmtxop 6.0a uses its float-computed `rgb2xyzmat` row, 47.45394 119.94894
 //! 11.59712 (notes §2.4), which differs from these by up to 1.2e-4 relative.
+//! On spectral input (NCOMP > 3) the symbolic words weight the bands by Radiance's own
+//! cumulative observer tables, laid out by the matrix header's `WAVELENGTH_SPLITS`
+//! ([`ChannelTransform::symbolic_for`]); they agree with rmtxop 6.0a to float precision.
 
 use super::Matrix;
 use crate::error::{Error, Result};
-use crate::radiometry::{STD_PRIMARIES, WHITE_EFFICACY, rgb_to_xyz};
+use crate::radiometry::{Channels, STD_PRIMARIES, WHITE_EFFICACY, rgb_to_xyz};
 use std::fmt;
+
+/// The letters `-c` accepts (rmtxop's `checksymbolic`).
+pub const SYMBOLS: &str = "R G B X Y Z S M A (lower case: without the 179/412 factor)";
+
+/// Scotopic efficacy of equal-energy white over 380-780 nm, Radiance `WHTSCOTOPIC` (lm/W,
+/// `src/common/color.h`).
+pub const WHITE_SCOTOPIC: f64 = 412.0;
+
+/// Radiance's melanopic factor for equal-energy white, `WHTMELANOPIC` (`color.h`): 179, so
+/// that `M` equals `Y` for equal-energy light.
+pub const WHITE_MELANOPIC: f64 = 179.0;
+
+/// RGB for 3 components, otherwise spectral bands with Radiance's default splits.
+fn layout(nin: usize) -> Channels {
+    Channels {
+        ncomp: nin,
+        ..Channels::rgb()
+    }
+}
 
 /// Matrix dimensions; `nrows` is unknown for streams without `NROWS=`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -98,17 +120,24 @@ pub struct ChannelTransform {
 
 impl ChannelTransform {
     /// From rmtxop's `-c` arguments: numbers (a multiple of `nin` of them), or one symbolic
-    /// word of letters `R G B Y A` (`y`: without 179). `what` names the input in errors.
+    /// word (see [`ChannelTransform::symbolic_for`]); RGB or default spectral splits.
+    /// `what` names the input in errors.
     pub fn parse(args: &[String], nin: usize, what: &str) -> Result<Self> {
+        Self::parse_for(args, &layout(nin), what)
+    }
+
+    /// As [`ChannelTransform::parse`] for values laid out as `ch` (NCOMP and
+    /// WAVELENGTH_SPLITS of the matrix header), which symbolic words need.
+    pub fn parse_for(args: &[String], ch: &Channels, what: &str) -> Result<Self> {
         if args.is_empty() {
             return Err(Error::Usage("-c: missing coefficients".into()));
         }
         let nums: Option<Vec<f64>> = args.iter().map(|a| a.parse::<f64>().ok()).collect();
         match nums {
-            Some(coefs) => Self::new(coefs, nin, what),
-            None if args.len() == 1 => Self::symbolic(&args[0], nin, what),
+            Some(coefs) => Self::new(coefs, ch.ncomp, what),
+            None if args.len() == 1 => Self::symbolic_for(&args[0], ch, what),
             None => Err(Error::Usage(format!(
-                "-c {}: expected numbers or one symbolic word (R G B Y y A)",
+                "-c {}: expected numbers or one symbolic word of {SYMBOLS}",
                 args.join(" ")
             ))),
         }
@@ -128,31 +157,108 @@ impl ChannelTransform {
         })
     }
 
-    /// Symbolic transforms (subset of `rmtxop.c: checksymbolic`).
+    /// Symbolic transforms for `nin` components (RGB, or spectral with default splits).
     pub fn symbolic(sym: &str, nin: usize, what: &str) -> Result<Self> {
+        Self::symbolic_for(sym, &layout(nin), what)
+    }
+
+    /// Symbolic transforms of `rmtxop.c: checksymbolic`, one output component per letter:
+    ///
+    /// | letter | RGB input (NCOMP=3) | spectral input (NCOMP>3) |
+    /// |---|---|---|
+    /// | `R G B` (`r g b`) | that channel | band-wise `spec_rgb`: CIE XYZ of the band to standard RGB |
+    /// | `X Y Z` (`x y z`) | row of `rgb2xyzmat` | `Y`: `spec_dot` with ȳ; `X`, `Z`: `spec_cie` of the band |
+    /// | `S` (`s`) | `spec_dot` with V'(λ) on the 3 split bands | `spec_dot` with V'(λ) |
+    /// | `M` (`m`) | `spec_dot` with s_mel on the 3 split bands | `spec_dot` with s_mel |
+    /// | `A` (`a`) | mean | mean |
+    ///
+    /// Upper case multiplies X, Y, Z by 179 lm/W (`WHTEFFICACY`), S by 412
+    /// (`WHTSCOTOPIC`) and M by 179 (`WHTMELANOPIC`); upper-case R G B are *not* scaled
+    /// (rmtxop's 1/179 for them only applies to XYZE input). The curves are Radiance's own
+    /// cumulative tables ([`crate::material::spectrum::Curve`]), so an equal-energy white
+    /// of 1 in every band gives exactly 179 for `Y` and `M` and 412 for `S`.
+    ///
+    /// `M` is therefore Radiance's equal-energy-normalised melanopic quantity, not CIE S 026
+    /// m-EDI: m-EDI = `M` x [`crate::metrics::melanopic::radiance_m_to_medi`] (about
+    /// 0.9233; `rmetrics` reports both).
+    ///
+    /// Differences from rmtxop: R G B X Z use whole-nm band edges computed as rmtxop's
+    /// `rgbrow`/`xyzrow` write them, but the 6.0a binaries land one nm low on some edges
+    /// that are whole numbers (for 6, 7, 9, 12, 14, 15, 18 and 24 bands over 380-780 nm,
+    /// e.g. 379 for the last of 18 bands; measured, cause not found in the source), which
+    /// moves up to 1.2e-4 of a row's weight (the last band's); Y S M match exactly. Each
+    /// letter takes its own scale (rmtxop carries the last
+    /// upper-case factor over to following lower-case letters, e.g. `Ry` gives y/179), and
+    /// `A` is also accepted for NCOMP < 3, where rmtxop refuses every symbol.
+    pub fn symbolic_for(sym: &str, ch: &Channels, what: &str) -> Result<Self> {
+        use crate::material::spectrum::{Curve, band_edges_nm, spec_cie, spec_dot, xyz_to_std_rgb};
+        let nin = ch.ncomp;
         let mut coefs = Vec::new();
+        let one_hot = |i: usize| {
+            let mut v = vec![0.0; nin];
+            v[i] = 1.0;
+            v
+        };
+        // `spec_dot` of each unit band: rmtxop's `sensrow`.
+        let sens = |curve: Curve| -> Vec<f64> {
+            (0..nin).map(|i| spec_dot(&one_hot(i), ch, curve)).collect()
+        };
         for c in sym.chars() {
-            let mut row = vec![0.0; nin];
-            match c {
-                'R' | 'r' | 'G' | 'g' | 'B' | 'b' if nin == 3 => {
-                    row["RGB".find(c.to_ascii_uppercase()).unwrap_or(0)] = 1.0;
-                }
-                'Y' | 'y' if nin == 3 => {
-                    // rmtxop's `-c Y` is row Y of rgb2xyzmat for the standard primaries
-                    // (x 179 for upper case).
-                    let cf = if c == 'Y' { WHITE_EFFICACY } else { 1.0 };
-                    for (r, w) in row.iter_mut().zip(rgb_to_xyz(&STD_PRIMARIES)[1]) {
-                        *r = cf * w;
-                    }
-                }
-                'A' | 'a' => row.iter_mut().for_each(|r| *r = 1.0 / nin as f64),
-                _ => {
+            let upper = c.is_ascii_uppercase();
+            let row: Vec<f64> = match c.to_ascii_uppercase() {
+                'A' => vec![1.0 / nin as f64; nin],
+                _ if nin < 3 => {
                     return Err(Error::Usage(format!(
-                        "{what}: -c '{c}' unsupported for NCOMP={nin} (R G B Y y on RGB, \
-                         A on any)"
+                        "{what}: -c '{sym}' requires at least 3 components (NCOMP={nin}); \
+                         only A works on fewer"
                     )));
                 }
-            }
+                l @ ('R' | 'G' | 'B') => {
+                    let comp = "RGB".find(l).unwrap_or(0);
+                    if nin == 3 {
+                        one_hot(comp)
+                    } else {
+                        let m = xyz_to_std_rgb();
+                        (0..nin)
+                            .map(|i| {
+                                let (s, e) = band_edges_nm(ch, i);
+                                let xyz = spec_cie(s, e);
+                                (0..3).map(|k| m[comp][k] * xyz[k]).sum()
+                            })
+                            .collect()
+                    }
+                }
+                l @ ('X' | 'Y' | 'Z') => {
+                    let comp = "XYZ".find(l).unwrap_or(0);
+                    let cf = if upper { WHITE_EFFICACY } else { 1.0 };
+                    let row: Vec<f64> = if nin == 3 {
+                        rgb_to_xyz(&STD_PRIMARIES)[comp].to_vec()
+                    } else if comp == 1 {
+                        sens(Curve::Y)
+                    } else {
+                        (0..nin)
+                            .map(|i| {
+                                let (s, e) = band_edges_nm(ch, i);
+                                spec_cie(s, e)[comp]
+                            })
+                            .collect()
+                    };
+                    row.into_iter().map(|w| cf * w).collect()
+                }
+                'S' => {
+                    let cf = if upper { WHITE_SCOTOPIC } else { 1.0 };
+                    sens(Curve::Scotopic).into_iter().map(|w| cf * w).collect()
+                }
+                'M' => {
+                    let cf = if upper { WHITE_MELANOPIC } else { 1.0 };
+                    sens(Curve::Melanopic).into_iter().map(|w| cf * w).collect()
+                }
+                _ => {
+                    return Err(Error::Usage(format!(
+                        "{what}: -c '{c}' unsupported; expected a word of {SYMBOLS}"
+                    )));
+                }
+            };
             coefs.extend(row);
         }
         Self::new(coefs, nin, what)
@@ -261,7 +367,6 @@ impl RowOps {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::radiometry::Channels;
 
     #[test]
     fn shape_message() {
@@ -316,8 +421,156 @@ mod tests {
         let mut out = [0.0];
         t.apply_row(&[1.0, 1.0, 1.0], &mut out);
         assert!((out[0] - 179.0).abs() < 1e-6, "{out:?}");
-        assert!(ChannelTransform::symbolic("Y", 20, "m").is_err());
+        assert!(ChannelTransform::symbolic("Y", 2, "m").is_err());
+        assert!(ChannelTransform::symbolic("Q", 20, "m").is_err());
         let e = ChannelTransform::new(vec![1.0, 2.0], 3, "m").unwrap_err();
         assert_eq!(e.to_string(), "m: -c must have N x 3 coefficients, got 2");
+    }
+
+    /// `rmtxop -fa -c W` on the 18 unit spectra (an 18x1x18 identity, default splits), real
+    /// Radiance 6.0a: the weight of each band, longest wavelength first.
+    const RMTXOP_18: [(&str, [f64; 18]); 4] = [
+        (
+            "Y",
+            [
+                2.7313649e-03,
+                5.4627298e-03,
+                2.7313650e-02,
+                1.3110551e-01,
+                6.5825897e-01,
+                2.5893340e+00,
+                7.6860609e+00,
+                1.6527489e+01,
+                2.6696362e+01,
+                3.6343540e+01,
+                3.6130497e+01,
+                2.9050797e+01,
+                1.4446189e+01,
+                5.7549858e+00,
+                2.1304646e+00,
+                7.1015489e-01,
+                1.0106050e-01,
+                8.1940945e-03,
+            ],
+        ),
+        (
+            "M",
+            [
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                5.4627298e-03,
+                1.3656825e-02,
+                8.1940949e-02,
+                5.3534752e-01,
+                3.2694438e+00,
+                1.1977036e+01,
+                2.7758862e+01,
+                4.1890945e+01,
+                4.4554024e+01,
+                3.0053207e+01,
+                1.4995193e+01,
+                3.6299839e+00,
+                2.3489739e-01,
+            ],
+        ),
+        (
+            "R",
+            [
+                6.0483348e-05,
+                1.9925502e-04,
+                9.5713098e-04,
+                4.3123905e-03,
+                2.1622436e-02,
+                8.2586199e-02,
+                2.2374937e-01,
+                3.8318384e-01,
+                3.6842105e-01,
+                1.8203588e-01,
+                -2.5435217e-02,
+                -1.2997614e-01,
+                -1.0873479e-01,
+                -5.3418078e-02,
+                4.6396703e-03,
+                3.3273458e-02,
+                1.1462037e-02,
+                9.8166964e-04,
+            ],
+        ),
+        (
+            "Z",
+            [
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                1.0925460e-02,
+                4.0970474e-02,
+                9.2866406e-02,
+                4.5613796e-01,
+                2.2260625e+00,
+                8.7758760e+00,
+                3.0848034e+01,
+                6.0696392e+01,
+                5.8481255e+01,
+                1.5973022e+01,
+                1.3110552e+00,
+            ],
+        ),
+    ];
+
+    #[test]
+    fn spectral_symbolic_weights_match_rmtxop() {
+        let ch = Channels::spectral(18, 380.0, 780.0).unwrap();
+        for (sym, want) in RMTXOP_18 {
+            let t = ChannelTransform::symbolic_for(sym, &ch, "m").unwrap();
+            assert_eq!((t.nin, t.nout), (18, 1));
+            let scale: f64 = want.iter().map(|w| w.abs()).sum();
+            // rmtxop prints 8 digits of float results. For R G B X Z it truncates band
+            // edges to whole nm from float arithmetic and, for some band counts (6, 7, 9,
+            // 12, 14, 15, 18, 24 over 380-780 nm), lands one nm low on an edge that is a
+            // whole number (18 bands: 379 instead of 380): a few units of 65535 on that
+            // band, which we do not reproduce (ChannelTransform::symbolic_for).
+            let tol = if "RGBXZ".contains(sym) { 1e-4 } else { 1e-7 };
+            for (i, (got, w)) in t.coefs.iter().zip(want).enumerate() {
+                assert!(
+                    (got - w).abs() <= 1e-7 * w.abs() + tol * scale,
+                    "-c {sym} band {i}: {got} vs rmtxop {w}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn equal_energy_white_is_179_412_179() {
+        let ch = Channels::spectral(9, 380.0, 780.0).unwrap();
+        let t = ChannelTransform::symbolic_for("YSMA", &ch, "m").unwrap();
+        let mut out = [0.0; 4];
+        t.apply_row(&[1.0; 9], &mut out);
+        for (o, w) in out.iter().zip([179.0, 412.0, 179.0, 1.0]) {
+            assert!((o - w).abs() < 1e-9 * w, "{out:?}");
+        }
+        // RGB of equal-energy white is (1, 1, 1): each of XYZ integrates to 1.
+        let t = ChannelTransform::symbolic_for("RGB", &ch, "m").unwrap();
+        let mut out = [0.0; 3];
+        t.apply_row(&[1.0; 9], &mut out);
+        for o in out {
+            // Not exactly 1: the bands start at 380 nm, x̄ and z̄ tables at 362 and 359.
+            assert!((o - 1.0).abs() < 1e-3, "{out:?}");
+        }
+    }
+
+    #[test]
+    fn melanopic_of_rgb_uses_the_split_bands() {
+        // radiance-notes.md 10.3: rmtxop -c M on RGB is 0.3278 R + 107.45 G + 71.22 B.
+        let t = ChannelTransform::symbolic("M", 3, "m").unwrap();
+        for (got, want) in t.coefs.iter().zip([0.3278, 107.45, 71.22]) {
+            assert!((got - want).abs() < 1e-2, "{:?}", t.coefs);
+        }
     }
 }
