@@ -57,7 +57,8 @@ pub struct Bound {
     pub value: f64,
 }
 
-fn fields(line: &str) -> Vec<&str> {
+/// Comma-separated fields of a line, trimmed (also used by the spectral readings).
+pub(crate) fn fields(line: &str) -> Vec<&str> {
     let r: nom::IResult<&str, Vec<&str>> = separated_list1(
         char(','),
         delimited(space0, take_while(|c: char| c != ','), space0),
@@ -67,7 +68,8 @@ fn fields(line: &str) -> Vec<&str> {
         .unwrap_or_default()
 }
 
-fn number(word: &str) -> Option<f64> {
+/// A finite number filling the whole word.
+pub(crate) fn number(word: &str) -> Option<f64> {
     let r: nom::IResult<&str, f64> =
         nom::combinator::all_consuming(nom::number::complete::double).parse(word);
     match r {
@@ -76,7 +78,8 @@ fn number(word: &str) -> Option<f64> {
     }
 }
 
-fn shorten(s: &str) -> String {
+/// At most 40 characters of `s` for messages.
+pub(crate) fn shorten(s: &str) -> String {
     if s.chars().count() > 40 {
         format!("{}...", s.chars().take(37).collect::<String>())
     } else {
