@@ -14,16 +14,17 @@
 //!   to it by least squares (coordinate golden-section search), with the Gaussian BIC change
 //!   `N ln(RSS_1 / RSS_0)` over the `N` shape residuals (channels minus one per reading).
 //!
-//! The tint candidate's BIC change is that of its level on the photopic readings (its three
-//! parameters are penalised there) plus the shape term, so on the same readings it competes
-//! with the photopic families: with a pure level error the transmittance effect wins (the
-//! tint's shape adds nothing and costs two parameters), with a coloured glazing the tint
-//! wins. It is kept when its shape term is significant ([`SIGNIFICANT`], and at least
+//! The tint candidate's BIC change is the transmittance effect's (the same physical level)
+//! plus `2 ln n` for its two shape parameters plus the shape term when that is significant
+//! ([`shape_significant`]), so on the same readings it competes with the photopic families:
+//! with a pure level error the transmittance effect wins (the tint's shape adds nothing and
+//! costs two parameters; the small shape change a grey glazing makes by shifting the
+//! sun/sky mix is not counted), with a coloured glazing the tint wins. It is kept when its shape term is significant ([`SIGNIFICANT`], and at least
 //! [`MIN_GAIN`] of the shape error removed); then it replaces the transmittance effect (it
 //! carries the level), re-fitted on top of the other selected effects.
 
 use super::SpectralModel;
-use crate::calib::effects::{Effect, golden, tint};
+use crate::calib::effects::{Effect, golden, tint, transmittance};
 use crate::calib::explain::{Candidate, Explanation, MIN_GAIN, explain as explain_photopic};
 use crate::calib::fit::{Fitter, without};
 use crate::calib::model::Model;
@@ -153,8 +154,22 @@ fn tint_candidate(
     let mut all = base.to_vec();
     all.push(e.clone());
     let after = m.predict(&all);
+    // Level part: the transmittance effect's BIC change (the same physical level; the tint's
+    // two shape parameters cost 2 ln n more); shape part: counted when it is significant.
     let bic0 = f.bic(base);
-    let bic1 = f.bic(&all);
+    let level_bic = transmittance::fit(f, base)
+        .map(|t| {
+            let mut with = base.to_vec();
+            with.push(t);
+            f.bic(&with) - bic0
+        })
+        .unwrap_or(0.0);
+    let n_phot = f.score(base).n.max(1) as f64;
+    let shape_part = if shape_significant(shape) {
+        shape.delta_bic
+    } else {
+        0.0
+    };
     Candidate {
         family: "tint".into(),
         spec: e.spec(ids, windows),
@@ -164,10 +179,10 @@ fn tint_candidate(
         uncertainty: f.uncertainty(&all, all.len() - 1, 0.01),
         rmse_before: stats_of(m, &before).rmse_rel,
         rmse_after: stats_of(m, &after).rmse_rel,
-        delta_bic: bic1 - bic0 + shape.delta_bic - 2.0 * (shape.n.max(1) as f64).ln(),
+        delta_bic: level_bic + 2.0 * n_phot.ln() + shape_part,
         evidence: format!(
             "spectral shape residual {:.2} % -> {:.2} % rms over {} channel ratios \
-             (slope {:+.3}{}, curvature {:+.3}{}); shape BIC change {:+.1}",
+             (slope {:+.3}{}, curvature {:+.3}{}); shape BIC change {:+.1}{}",
             100.0 * shape.rms_before,
             100.0 * shape.rms_after,
             shape.n,
@@ -179,10 +194,23 @@ fn tint_candidate(
             shape
                 .curvature_sd
                 .map_or(String::new(), |s| format!(" ± {s:.3}")),
-            shape.delta_bic
+            shape.delta_bic,
+            if shape_significant(shape) {
+                ""
+            } else {
+                " (not significant: counted as 0)"
+            }
         ),
         effect: e,
     }
+}
+
+/// The shape term counts when it lowers the BIC by more than [`SIGNIFICANT`] and removes at
+/// least [`MIN_GAIN`] of the squared shape residual (smaller shape changes are within what
+/// grey effects do to the sun/sky mix and the model's own spectral noise).
+pub fn shape_significant(s: &ShapeFit) -> bool {
+    let gain = 1.0 - (s.rms_after / s.rms_before.max(1e-12)).powi(2);
+    s.delta_bic < -SIGNIFICANT && gain >= MIN_GAIN
 }
 
 /// Explain with spectral readings: `pm` is the photopic model on the readings' photopic
@@ -204,8 +232,7 @@ pub fn explain(
         ranking.push(tint_candidate(&f, &[], &shape, &ids, &windows));
         ranking.sort_by(|a, b| a.delta_bic.total_cmp(&b.delta_bic));
     }
-    let gain = 1.0 - (shape.rms_after / shape.rms_before.max(1e-12)).powi(2);
-    let significant = use_tint && shape.delta_bic < -SIGNIFICANT && gain >= MIN_GAIN;
+    let significant = use_tint && shape_significant(&shape);
     let mut selected = ex.selected.clone();
     if significant {
         let others: Vec<Effect> = without(
