@@ -254,3 +254,121 @@ impl SpectralModel {
         self.sensors.iter().map(|s| s.id.clone()).collect()
     }
 }
+
+/// Everything `rcalib spectral` reads from files.
+pub struct SpectralInputs {
+    pub scene: Scene,
+    pub sensors: Vec<Sensor>,
+    pub weather: Weather,
+    pub readings: readings::SpectralReadings,
+    /// Readings bound to sensors and weather steps, and their channel values.
+    pub bound: Vec<Bound>,
+    pub values: Vec<Vec<f64>>,
+    pub map: ChannelMap,
+}
+
+/// Read scene, sensors, weather, spectral readings and (optionally) response curves, bind
+/// the readings and map the channels onto the bands of `ch`.
+pub fn load(
+    scene_files: &[String],
+    sensors: &str,
+    weather: &str,
+    measured: &str,
+    response: Option<&str>,
+    ch: &Channels,
+) -> Result<SpectralInputs> {
+    let scene = crate::scene::load(scene_files, &crate::scene::LoadOptions::from_env())?;
+    let sensors_v = super::inputs::load_sensors(sensors)?;
+    let w = Weather::read_path(weather)?;
+    let r = readings::SpectralReadings::read_path(measured)?;
+    let map = match response {
+        Some(p) => ChannelMap::with_responses(&r, &channels::Responses::read_path(p)?, ch)?,
+        None => ChannelMap::bands(&r, ch)?,
+    };
+    let ids: Vec<String> = sensors_v.iter().map(|s| s.id.clone()).collect();
+    let steps: Vec<(u32, u32, f64)> = w
+        .steps
+        .iter()
+        .map(|s| (u32::from(s.month), u32::from(s.day), s.hour))
+        .collect();
+    let (bound, values) = r.bind(&ids, &steps, weather)?;
+    Ok(SpectralInputs {
+        scene,
+        sensors: sensors_v,
+        weather: w,
+        readings: r,
+        bound,
+        values,
+        map,
+    })
+}
+
+impl SpectralInputs {
+    /// The spectral model of the scene.
+    pub fn model(&self, opts: &Options) -> Result<SpectralModel> {
+        SpectralModel::build(
+            &self.scene,
+            self.sensors.clone(),
+            &self.weather,
+            &self.bound,
+            self.values.clone(),
+            self.map.clone(),
+            opts,
+        )
+    }
+
+    /// The photopic model on the readings' photopic values (from `sm`).
+    pub fn photopic(&self, sm: &SpectralModel, opts: &Options) -> Result<super::model::Model> {
+        let readings: Vec<Bound> = self
+            .bound
+            .iter()
+            .zip(&sm.obs)
+            .map(|(b, o)| Bound {
+                value: o.value,
+                ..*b
+            })
+            .collect();
+        super::session::build(
+            &self.scene,
+            self.sensors.clone(),
+            &self.weather,
+            &readings,
+            opts,
+        )
+    }
+
+    /// Index of the control sensor `id` (default: the sensor nearest a window).
+    pub fn control(&self, id: Option<&str>) -> Result<usize> {
+        match id {
+            Some(id) => self.sensors.iter().position(|s| s.id == id).ok_or_else(|| {
+                Error::Usage(format!(
+                    "--control '{id}': no such sensor id in the sensor file"
+                ))
+            }),
+            None => {
+                let room = super::room::Room::new(
+                    &self.scene,
+                    super::room::sensor_centroid(&self.sensors),
+                    &[],
+                );
+                Ok((0..self.sensors.len())
+                    .min_by(|a, b| self.depth(&room, *a).total_cmp(&self.depth(&room, *b)))
+                    .unwrap_or(0))
+            }
+        }
+    }
+
+    /// Distance of sensor `s` from the nearest window plane (m; 0 without windows).
+    pub fn depth(&self, room: &super::room::Room, s: usize) -> f64 {
+        let p = self.sensors[s].ray.org;
+        room.windows
+            .iter()
+            .map(|w| {
+                let d = [p[0] - w.centroid[0], p[1] - w.centroid[1], 0.0];
+                -super::room::dot(d, w.outward)
+            })
+            .fold(f64::INFINITY, f64::min)
+            .max(0.0)
+            .min(f64::MAX)
+    }
+}

@@ -69,12 +69,13 @@ pub fn channel_names(ch: &Channels) -> Vec<(usize, String)> {
     v
 }
 
-/// Build a case in room `kind` keeping only the sensors `keep` (indices of the room's).
+/// Build a case in room `kind` (its scene) with `sensors` (e.g. some of the room's
+/// [`room`] sensors and a control sensor at the window).
 #[allow(clippy::too_many_arguments)]
 pub fn generate(
     name: &str,
     kind: RoomKind,
-    keep: &[usize],
+    sensors: Vec<Sensor>,
     weather: Weather,
     hidden: Vec<Effect>,
     nsteps: usize,
@@ -83,8 +84,7 @@ pub fn generate(
     cache: Option<std::path::PathBuf>,
     ch: &Channels,
 ) -> Result<SpectralCase> {
-    let (model_text, all) = room(kind);
-    let sensors: Vec<Sensor> = keep.iter().filter_map(|&i| all.get(i).cloned()).collect();
+    let (model_text, _) = room(kind);
     let model = scene_of(&model_text)?;
     let r = room_of(&model, &sensors);
     let truth_text = crate::calib::apply::apply(&model, &r, &sensors, &hidden, "hidden effect")?;

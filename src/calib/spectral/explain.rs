@@ -21,7 +21,9 @@
 //! costs two parameters; the small shape change a grey glazing makes by shifting the
 //! sun/sky mix is not counted), with a coloured glazing the tint wins. It is kept when its shape term is significant ([`SIGNIFICANT`], and at least
 //! [`MIN_GAIN`] of the shape error removed); then it replaces the transmittance effect (it
-//! carries the level), re-fitted on top of the other selected effects.
+//! carries the level), its level re-fitted on top of the other selected effects, or, when
+//! it is the only one, by the seed's criterion: the lowest 18-channel MAE over all readings
+//! ([`mae_level`]).
 
 use super::SpectralModel;
 use crate::calib::effects::{Effect, golden, tint, transmittance};
@@ -213,6 +215,31 @@ pub fn shape_significant(s: &ShapeFit) -> bool {
     s.delta_bic < -SIGNIFICANT && gain >= MIN_GAIN
 }
 
+/// Eq. 6.1 over every reading and channel with the tint `(scale, shape)`.
+pub fn mae_all(m: &SpectralModel, scale: f64, shape: &ShapeFit) -> f64 {
+    let f = tint::band_factors(scale, shape.slope, shape.curvature, &m.ch());
+    let (mut sum, mut n) = (0.0, 0usize);
+    for i in 0..m.obs.len() {
+        for (y, x) in m.channels(i, Some(&f)).iter().zip(&m.meas[i]) {
+            sum += (y - x).abs();
+            n += 1;
+        }
+    }
+    if n > 0 { sum / n as f64 } else { 0.0 }
+}
+
+/// The tint level with the lowest [`mae_all`] (log scale, 0.05 to 2).
+pub fn mae_level(m: &SpectralModel, shape: &ShapeFit) -> f64 {
+    golden(
+        &mut |l| mae_all(m, l.exp(), shape),
+        0.05f64.ln(),
+        2f64.ln(),
+        40,
+    )
+    .0
+    .exp()
+}
+
 /// Explain with spectral readings: `pm` is the photopic model on the readings' photopic
 /// values, `sm` the spectral one.
 pub fn explain(
@@ -242,7 +269,22 @@ pub fn explain(
                 .collect::<Vec<_>>(),
             "transmittance",
         );
-        let c = tint_candidate(&f, &others, &shape, &ids, &windows);
+        let mut c = tint_candidate(&f, &others, &shape, &ids, &windows);
+        if others.is_empty() {
+            // Alone, its level is the seed's: the lowest 18-channel MAE over all readings
+            // (the bright sensors near the window decide; the photopic score weights every
+            // sensor alike, and deep sensors carry the model's Monte Carlo error).
+            let scale = mae_level(sm, &shape);
+            let e = Effect::Tint {
+                scale,
+                slope: shape.slope,
+                curvature: shape.curvature,
+            };
+            c.spec = e.spec(&ids, &windows);
+            c.description = e.describe(&ids, &windows);
+            c.value = scale;
+            c.effect = e;
+        }
         selected.retain(|c| c.family != "transmittance");
         selected.insert(0, c);
     }

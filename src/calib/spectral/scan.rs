@@ -263,3 +263,73 @@ pub fn text(s: &SpectralScan) -> String {
     ));
     out
 }
+
+fn esc(s: &str) -> String {
+    s.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+}
+
+/// A self-contained HTML page with Table 6.3 and Table 6.4 (and the explanation text).
+pub fn html(s: &SpectralScan, explanation: Option<&str>) -> String {
+    let mut h = String::from(
+        "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>rcalib spectral</title>\n\
+         <style>body{font-family:sans-serif;margin:1em}table{border-collapse:collapse}\
+         td,th{border:1px solid #ccc;padding:2px 6px;text-align:right}\
+         .best{font-weight:bold}</style></head><body>\n\
+         <h1>rcalib: spectral calibration (seed chapter 6)</h1>\n",
+    );
+    h += &format!(
+        "<h2>Window options</h2><p>MAE: Eq. 6.1 over the channels and time steps at the \
+         control sensor {} ({}); r: spectral-shape Pearson correlation.</p>\n<table>\
+         <tr><th>option</th><th>factor</th><th>VLT</th><th>MAE</th><th>r</th></tr>\n",
+        esc(&s.control),
+        esc(&s.unit)
+    );
+    for (i, o) in s.options.iter().enumerate() {
+        h += &format!(
+            "<tr{}><td style=\"text-align:left\">{}</td><td>{:.3}</td><td>{:.3}</td>\
+             <td>{:.4e}</td><td>{:.3}</td></tr>\n",
+            if i == s.best { " class=\"best\"" } else { "" },
+            o.name,
+            o.factor,
+            o.vlt,
+            o.mae,
+            o.r
+        );
+    }
+    h += "</table>\n<h2>Relative errors per sensor (Table 6.4)</h2>\n<table><tr><th>sensor</th>\
+          <th>metric</th><th>step</th><th>Ev %</th><th>m-EDI %</th><th>M/P %</th>\
+          <th>shape r</th></tr>\n";
+    for r in s.table.iter().chain(std::iter::once(&s.all)) {
+        for (metric, get) in [
+            ("MBE_rel", (|x: &Stats| x.mbe_rel) as fn(&Stats) -> f64),
+            ("RMSE_rel", |x: &Stats| x.rmse_rel),
+            ("sigma_rel", |x: &Stats| x.sigma_rel),
+        ] {
+            for (step, q) in [("before", &r.before), ("after", &r.after)] {
+                h += &format!(
+                    "<tr><td style=\"text-align:left\">{}{}</td><td>{metric}</td><td>{step}</td>\
+                     <td>{:.2}</td><td>{:.2}</td><td>{:.2}</td><td>{:.3}</td></tr>\n",
+                    esc(&r.sensor),
+                    if r.control { " (control)" } else { "" },
+                    get(&q.ev),
+                    get(&q.medi),
+                    get(&q.mp),
+                    q.shape_r
+                );
+            }
+        }
+    }
+    h += &format!(
+        "</table>\n<p>Selected {} (x{:.3}): <code>rcalib apply ... --effect {}</code></p>\n",
+        s.options[s.best].name,
+        s.options[s.best].factor,
+        esc(&s.effect)
+    );
+    if let Some(t) = explanation {
+        h += &format!("<h2>Explain</h2><pre>{}</pre>\n", esc(t));
+    }
+    h += "</body></html>\n";
+    h
+}
