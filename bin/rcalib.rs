@@ -32,6 +32,8 @@ Examples (the bundled case, examples/calib):
       --weather ... --measured ... --report after.html
   rcalib tmscan model.rad --sensors ... --weather ... --measured ...   (seed ch. 6)
   rcalib synth --room deep --climate sunny --effect walls:0.5 --out case/
+  rcalib spectral model.rad --sensors ... --weather ... --measured spectral.csv --explain
+      (spectral readings: month,day,hour,sensor,410nm,...; seed ch. 6 + glazing tint)
 
 Readings CSV: month,day,hour,sensor,lux (hour in the weather file's convention, e.g.
 12.5); sensors: .pts (ids = line numbers) or CSV id,x,y,z,dx,dy,dz; weather: .wea or
@@ -101,6 +103,10 @@ struct SpectralArgs {
     /// Assumed per-sensor spread for --explain (relative).
     #[arg(long, default_value_t = DEFAULT_SENSOR_SIGMA)]
     sensor_sigma: f64,
+    /// Write the selected effects here as `--effect SPEC` arguments for `rcalib apply`
+    /// (with --explain; else the selected window option).
+    #[arg(long)]
+    effects_out: Option<PathBuf>,
     /// Write the tables as HTML here.
     #[arg(long)]
     report: Option<PathBuf>,
@@ -261,6 +267,14 @@ struct SynthArgs {
     /// Output directory (model.rad, truth.rad, sensors.csv, weather.wea, measured.csv).
     #[arg(long)]
     out: PathBuf,
+    /// Spectral readings: one channel per band of -cs 18 -cw 380 780 (W m-2 nm-1), and a
+    /// control sensor inside the first window (as the seed's); effects may include
+    /// tint:SCALE,SLOPE,CURVATURE.
+    #[arg(long)]
+    spectral: bool,
+    /// With --spectral: keep only these sensors of the room (1-based, comma separated).
+    #[arg(long)]
+    keep: Option<String>,
     #[command(flatten)]
     sim: SimArgs,
 }
@@ -532,6 +546,9 @@ fn cmd_synth(a: SynthArgs) -> Result<(), Error> {
         .map(|s| Effect::parse(s, &ids, &wids))
         .collect::<Result<Vec<_>, _>>()?;
     let opts = a.sim.options(false)?;
+    if a.spectral {
+        return synth_spectral(&a, kind, climate, weather, &scene, sensors, hidden, &opts);
+    }
     let case = cases::generate(
         &format!("{}-{}", kind.name(), climate.name()),
         kind,
@@ -631,6 +648,14 @@ fn cmd_spectral(a: SpectralArgs) -> Result<(), Error> {
         );
         None
     };
+    if let Some(p) = &a.effects_out {
+        let specs = match &ex {
+            Some(e) => e.specs.clone(),
+            None => vec![sc.effect.clone()],
+        };
+        let args: Vec<String> = specs.iter().map(|s| format!("--effect {s}")).collect();
+        write_file(p, &format!("{}\n", args.join(" ")))?;
+    }
     if let Some(p) = &a.report {
         write_file(p, &scan::html(&sc, ex.as_ref().map(sx::text).as_deref()))?;
     }
@@ -640,5 +665,80 @@ fn cmd_spectral(a: SpectralArgs) -> Result<(), Error> {
             serde_json::to_string_pretty(&doc).map_err(|e| Error::Usage(format!("JSON: {e}")))?;
         write_file(p, &text)?;
     }
+    Ok(())
+}
+
+#[allow(clippy::too_many_arguments)]
+fn synth_spectral(
+    a: &SynthArgs,
+    kind: RoomKind,
+    climate: Climate,
+    weather: Weather,
+    scene: &rdaylight::scene::Scene,
+    room_sensors: Vec<rdaylight::formats::sensors::Sensor>,
+    hidden: Vec<Effect>,
+    opts: &Options,
+) -> Result<(), Error> {
+    use rdaylight::calib::spectral::{case, readings};
+    let room = cases::room_of(scene, &room_sensors);
+    let mut sensors: Vec<_> = case::window_control(&room).into_iter().collect();
+    match &a.keep {
+        Some(k) => {
+            for item in k.split(',') {
+                let i: usize = item.trim().parse().map_err(|_| {
+                    Error::Usage(format!("--keep '{item}': expected 1-based sensor numbers"))
+                })?;
+                let s = room_sensors.get(i.wrapping_sub(1)).ok_or_else(|| {
+                    Error::Usage(format!(
+                        "--keep {i}: the room has {} sensors",
+                        room_sensors.len()
+                    ))
+                })?;
+                sensors.push(s.clone());
+            }
+        }
+        None => sensors.extend(room_sensors),
+    }
+    let c = case::generate(
+        &format!("{}-{}-spectral", kind.name(), climate.name()),
+        kind,
+        sensors,
+        weather,
+        hidden,
+        a.steps,
+        a.noise_seed,
+        &opts.settings,
+        opts.cache.clone(),
+        &rdaylight::calib::spectral::seed_channels(),
+    )?;
+    std::fs::create_dir_all(&a.out).map_err(|e| Error::io(a.out.display().to_string(), e))?;
+    write_file(&a.out.join("model.rad"), &c.model_text)?;
+    write_file(
+        &a.out.join("truth.rad"),
+        &format!(
+            "# truth of synthetic spectral case {} (hidden: {})\n{}",
+            c.name,
+            a.effects.join(" "),
+            c.truth_text
+        ),
+    )?;
+    rdaylight::cli::write_atomically(&a.out.join("sensors.csv"), |w| write_sensors(w, &c.sensors))?;
+    let (idx, _) = rdaylight::calib::spectral::measured_steps(&c.bound);
+    write_file(
+        &a.out.join("weather.wea"),
+        &rdaylight::calib::simulate::subset_wea(&c.weather, &idx),
+    )?;
+    let r = c.readings();
+    rdaylight::cli::write_atomically(&a.out.join("measured.csv"), |w| {
+        readings::write_csv(w, &r.names, &r.readings)
+    })?;
+    println!(
+        "wrote {}: model.rad truth.rad sensors.csv weather.wea measured.csv ({} spectral readings, {} channels, {} sensors, {} steps)",
+        a.out.display(),
+        c.bound.len(),
+        r.names.len(),
+        c.sensors.len(),
+        idx.len()
+    );
     Ok(())
 }

@@ -16,13 +16,13 @@ use rdaylight::calib::effects::Effect;
 use rdaylight::calib::score::DEFAULT_SENSOR_SIGMA;
 use rdaylight::calib::session::Options;
 use rdaylight::calib::simulate::Settings;
-use rdaylight::calib::spectral::case::{SpectralCase, generate, scene_of};
+use rdaylight::calib::spectral::case::{SpectralCase, generate, scene_of, window_control};
 use rdaylight::calib::spectral::channels::{ChannelMap, Responses};
 use rdaylight::calib::spectral::explain::{SpectralExplanation, explain, text};
 use rdaylight::calib::spectral::readings::SpectralReadings;
 use rdaylight::calib::spectral::scan::{self, quality};
 use rdaylight::calib::spectral::{SpectralModel, seed_channels};
-use rdaylight::formats::sensors::{Ray, Sensor};
+use rdaylight::formats::sensors::Sensor;
 use rdaylight::formats::weather::Weather;
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
@@ -56,18 +56,17 @@ fn opts(reflectance: bool) -> Options {
     }
 }
 
-/// The control sensor as the seed's: on the inside of the window, 1.65 m high, facing out
-/// (vertical illuminance, mostly the sky seen through the glass); then four horizontal
-/// work-plane sensors of the deep room along its axis, 1, 3, 5 and 9 m from the window.
+/// The control sensor as the seed's ([`window_control`]: inside the window, facing out)
+/// and four horizontal work-plane sensors of the deep room along its axis, 1, 3, 5 and 9 m
+/// from the window.
 fn sensors() -> Vec<Sensor> {
-    let (_, all) = room(RoomKind::Deep);
-    let mut v = vec![Sensor {
-        id: "control".into(),
-        ray: Ray::new([1.75, 0.25, 1.65], [0.0, -1.0, 0.0]),
-    }];
+    let (text, all) = room(RoomKind::Deep);
+    let r = room_of(&scene_of(&text).unwrap(), &all);
+    let mut v = vec![window_control(&r).unwrap()];
     v.extend([0, 2, 4, 8].iter().map(|&i| all[i].clone()));
     v
 }
+
 const STEPS: usize = 6;
 const SEED: u64 = 5;
 

@@ -368,7 +368,6 @@ impl SpectralInputs {
                 -super::room::dot(d, w.outward)
             })
             .fold(f64::INFINITY, f64::min)
-            .max(0.0)
-            .min(f64::MAX)
+            .clamp(0.0, f64::MAX)
     }
 }

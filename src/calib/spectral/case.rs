@@ -58,6 +58,22 @@ fn normal(rng: &mut rand_pcg::Pcg64) -> f64 {
     (-2.0 * u.ln()).sqrt() * (2.0 * std::f64::consts::PI * v).cos()
 }
 
+/// A control sensor as the seed's: inside the first window, 0.25 m from the glass at the
+/// window's mid height (at most 1.65 m), facing out (vertical illuminance, mostly the sky
+/// seen through the glass). `None` without windows.
+pub fn window_control(room: &crate::calib::room::Room) -> Option<Sensor> {
+    let w = room.windows.first()?;
+    let o = w.outward;
+    let z = (0.5 * (w.sill + w.head)).min(1.65);
+    Some(Sensor {
+        id: "control".into(),
+        ray: crate::formats::sensors::Ray::new(
+            [w.centroid[0] - 0.25 * o[0], w.centroid[1] - 0.25 * o[1], z],
+            [o[0], o[1], 0.0],
+        ),
+    })
+}
+
 /// Channel names of the band centres of `ch`, shortest wavelength first.
 pub fn channel_names(ch: &Channels) -> Vec<(usize, String)> {
     let mut v: Vec<(usize, String)> = band_centres(ch)

@@ -350,9 +350,9 @@ mod tests {
     #[test]
     fn responses_integrate_and_check() {
         let ch = Channels::spectral(4, 380.0, 780.0).unwrap();
-        let r = readings("month,day,hour,sensor,a,b");
+        let r = readings("month,day,hour,sensor,450nm,650nm");
         let resp = Responses::parse(
-            "wavelength,a,b\n380,1,0\n580,1,0\n581,0,0\n780,0,0\n",
+            "wavelength,450nm,650nm\n380,1,0\n580,1,0\n581,0,0\n780,0,0\n",
             "r.csv",
         )
         .unwrap();
@@ -361,10 +361,13 @@ mod tests {
         assert!(
             m.unwrap_err()
                 .to_string()
-                .contains("'b': the response curve is zero")
+                .contains("'650nm': the response curve is zero")
         );
-        let resp =
-            Responses::parse("wavelength,a,b\n380,1,0\n580,1,1\n780,1,1\n", "r.csv").unwrap();
+        let resp = Responses::parse(
+            "wavelength,450nm,650nm\n380,1,0\n580,1,1\n780,1,1\n",
+            "r.csv",
+        )
+        .unwrap();
         let m = ChannelMap::with_responses(&r, &resp, &ch).unwrap();
         // Flat E = 1 W m-2 nm-1 (v = 400 in every band): a sees 400 nm, b 300 nm.
         let v = m.apply(&[400.0; 4]);
@@ -372,12 +375,12 @@ mod tests {
             (v[0] - 400.0).abs() < 1e-9 && (v[1] - 300.0).abs() < 1e-9,
             "{v:?}"
         );
-        let resp = Responses::parse("wavelength,a,b\n700,1,1\n900,1,1\n", "r.csv").unwrap();
+        let resp = Responses::parse("wavelength,450nm,650nm\n700,1,1\n900,1,1\n", "r.csv").unwrap();
         let e = ChannelMap::with_responses(&r, &resp, &ch)
             .unwrap_err()
             .to_string();
         assert!(
-            e.starts_with("r.csv:1: channel 'a': 60 % of its response"),
+            e.starts_with("r.csv:1: channel '450nm': 60 % of its response"),
             "{e}"
         );
         let e = Responses::parse("wavelength,a\n500,1\n400,1\n", "r.csv").unwrap_err();
@@ -385,7 +388,7 @@ mod tests {
             e.to_string().starts_with("r.csv:3: wavelength 400 nm"),
             "{e}"
         );
-        let good = "wavelength,a,b\n380,1,0\n580,1,1\n780,1,1\n";
+        let good = "wavelength,450nm,650nm\n380,1,0\n580,1,1\n780,1,1\n";
         for n in 0..=good.len() {
             let _ = Responses::parse(&good[..n], "r.csv");
         }
