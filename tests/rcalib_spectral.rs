@@ -322,3 +322,87 @@ fn spectral_csv_errors_name_file_and_line() {
         let _ = Responses::parse(&resp[..n], "r.csv");
     }
 }
+
+/// The command line on the bundled example (examples/calib-spectral: the tint case above,
+/// so the cache is shared): explain names the tint, apply writes a spectral glass, and the
+/// spectral readings' errors come back as one line with file:line and exit status 1.
+#[test]
+fn command_line_on_the_bundled_case() {
+    let repo = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let ex = repo.join("examples/calib-spectral");
+    let tmp = std::env::temp_dir().join(format!("rcalib-spectral-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&tmp).unwrap();
+    let arg = |p: &str| ex.join(p).display().to_string();
+    let effects = tmp.join("effects.txt");
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_rcalib"))
+        .args([
+            "spectral",
+            &arg("model.rad"),
+            "--sensors",
+            &arg("sensors.csv"),
+        ])
+        .args([
+            "--weather",
+            &arg("weather.wea"),
+            "--measured",
+            &arg("measured.csv"),
+        ])
+        .args(["--explain", "--cache", &cache().display().to_string()])
+        .arg("--effects-out")
+        .arg(&effects)
+        .arg("--json")
+        .arg(tmp.join("s.json"))
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    eprintln!("{stdout}");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(stdout.contains("(seed Table 6.3)") && stdout.contains("(control)"));
+    let spec = std::fs::read_to_string(&effects).unwrap();
+    assert!(spec.starts_with("--effect tint:"), "{spec}");
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(tmp.join("s.json")).unwrap()).unwrap();
+    assert_eq!(json["scan"]["options"].as_array().map(Vec::len), Some(15));
+    assert_eq!(json["explanation"]["selected"][0]["family"], "tint");
+    // apply: a spectrum pattern on the glass.
+    let applied = std::process::Command::new(env!("CARGO_BIN_EXE_rcalib"))
+        .args(["apply", &arg("model.rad"), "--sensors", &arg("sensors.csv")])
+        .args(spec.split_whitespace())
+        .output()
+        .unwrap();
+    assert!(applied.status.success());
+    let text = String::from_utf8_lossy(&applied.stdout);
+    assert!(
+        text.contains("void spectrum rcalib_tint_0")
+            && text.contains("rcalib_tint_0 glass glazing")
+    );
+    assert!(text.contains("# Why: fitted to measurements"));
+    // A bad reading: one line, file:line, status 1.
+    let bad = tmp.join("bad.csv");
+    let good = std::fs::read_to_string(ex.join("measured.csv")).unwrap();
+    let mut lines: Vec<String> = good.lines().map(String::from).collect();
+    lines[3] = lines[3].replacen(",", ",-", 5).replacen(",-", ",", 4);
+    std::fs::write(&bad, lines.join("\n")).unwrap();
+    let e = std::process::Command::new(env!("CARGO_BIN_EXE_rcalib"))
+        .args([
+            "spectral",
+            &arg("model.rad"),
+            "--sensors",
+            &arg("sensors.csv"),
+        ])
+        .args(["--weather", &arg("weather.wea"), "--measured"])
+        .arg(&bad)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&e.stderr);
+    assert_eq!(e.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains(&format!("{}:4: negative value", bad.display())),
+        "{err}"
+    );
+    let _ = std::fs::remove_dir_all(&tmp);
+}

@@ -241,6 +241,43 @@ mod tests {
     }
 
     #[test]
+    fn tinted_scene_puts_a_pattern_on_the_glass() {
+        let text = "void plastic wall 0 0 5 .5 .5 .5 0 0\nvoid glass glazing 0 0 3 .96 .96 .96\n\
+                    glazing polygon w 0 0 9 0 0 0 1 0 0 1 0 1\n";
+        let s = crate::scene::parse_str(
+            text,
+            "t.rad",
+            std::path::Path::new(""),
+            &crate::scene::LoadOptions::default(),
+        )
+        .unwrap();
+        let t = tinted_scene(&s, 0.8, -0.5, 0.0).unwrap();
+        let out = t.to_string();
+        assert!(out.contains("void spectrum rcalib_tint_0"), "{out}");
+        assert!(out.contains("rcalib_tint_0 glass glazing"), "{out}");
+        // The surface still finds the glass; the pattern's band means are the factors.
+        let back = crate::scene::parse_str(
+            &out,
+            "t.rad",
+            std::path::Path::new(""),
+            &crate::scene::LoadOptions::default(),
+        )
+        .unwrap();
+        let ch = Channels::spectral(18, 380.0, 780.0).unwrap();
+        let tau = crate::calib::spectral::glass_transmittance(&back, &ch);
+        let t0 = crate::calib::spectral::glass_transmittance(&s, &ch);
+        let f = band_factors(0.8, -0.5, 0.0, &ch);
+        for b in 0..18 {
+            assert!(
+                (tau[b] / t0[b] - f[b]).abs() < 1e-3,
+                "{b}: {} {}",
+                tau[b] / t0[b],
+                f[b]
+            );
+        }
+    }
+
+    #[test]
     fn parse_checks_parameters() {
         assert!(matches!(
             parse("0.8,-0.4,0.1"),
