@@ -78,6 +78,31 @@ pub(crate) fn number(word: &str) -> Option<f64> {
     }
 }
 
+/// Check a reading's month (1-12), day (1-31) and decimal hour (0-24).
+pub(crate) fn check_stamp(
+    month: f64,
+    day: f64,
+    hour: f64,
+    at: &dyn Fn() -> Location,
+) -> Result<()> {
+    if !(1.0..=12.0).contains(&month) || month.fract() != 0.0 {
+        return Err(Error::parse(
+            at(),
+            format!("month {month}: expected 1 to 12"),
+        ));
+    }
+    if !(1.0..=31.0).contains(&day) || day.fract() != 0.0 {
+        return Err(Error::parse(at(), format!("day {day}: expected 1 to 31")));
+    }
+    if !(0.0..=24.0).contains(&hour) {
+        return Err(Error::parse(
+            at(),
+            format!("hour {hour}: expected decimal hours 0 to 24"),
+        ));
+    }
+    Ok(())
+}
+
 /// At most 40 characters of `s` for messages.
 pub(crate) fn shorten(s: &str) -> String {
     if s.chars().count() > 40 {
@@ -146,21 +171,7 @@ impl Measurements {
                 })
             };
             let (month, day, hour, value) = (num(0)?, num(1)?, num(2)?, num(4)?);
-            if !(1.0..=12.0).contains(&month) || month.fract() != 0.0 {
-                return Err(Error::parse(
-                    at(),
-                    format!("month {month}: expected 1 to 12"),
-                ));
-            }
-            if !(1.0..=31.0).contains(&day) || day.fract() != 0.0 {
-                return Err(Error::parse(at(), format!("day {day}: expected 1 to 31")));
-            }
-            if !(0.0..=24.0).contains(&hour) {
-                return Err(Error::parse(
-                    at(),
-                    format!("hour {hour}: expected decimal hours 0 to 24"),
-                ));
-            }
+            check_stamp(month, day, hour, &at)?;
             if value < 0.0 {
                 return Err(Error::parse(
                     at(),

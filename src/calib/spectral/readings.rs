@@ -17,7 +17,9 @@
 //! photopic readings' rules and messages (unknown sensor ids, time stamps not in the
 //! weather file, duplicates).
 
-use crate::calib::measurements::{Bound, Measurements, Reading, fields, number, shorten};
+use crate::calib::measurements::{
+    Bound, Measurements, Reading, check_stamp, fields, number, shorten,
+};
 use crate::error::{Error, Location, Result};
 use nom::Parser;
 use nom::bytes::complete::tag_no_case;
@@ -151,21 +153,7 @@ impl SpectralReadings {
                 })
             };
             let (month, day, hour) = (num(0, "month")?, num(1, "day")?, num(2, "hour")?);
-            if !(1.0..=12.0).contains(&month) || month.fract() != 0.0 {
-                return Err(Error::parse(
-                    at(),
-                    format!("month {month}: expected 1 to 12"),
-                ));
-            }
-            if !(1.0..=31.0).contains(&day) || day.fract() != 0.0 {
-                return Err(Error::parse(at(), format!("day {day}: expected 1 to 31")));
-            }
-            if !(0.0..=24.0).contains(&hour) {
-                return Err(Error::parse(
-                    at(),
-                    format!("hour {hour}: expected decimal hours 0 to 24"),
-                ));
-            }
+            check_stamp(month, day, hour, &at)?;
             let sensor = f.get(3).copied().unwrap_or("");
             if sensor.is_empty() {
                 return Err(Error::parse(at(), "empty sensor id"));
