@@ -102,6 +102,9 @@ fn case_in(name: &str, weather: Weather, hidden: Vec<Effect>) -> SpectralCase {
 /// Everything a case's assertions need.
 struct Outcome {
     ex: SpectralExplanation,
+    /// Mean and largest |ratio - 1| of the spectral model's photopic illuminance (CIE ybar
+    /// x 683) to the photopic (RGB) model's, over every reading.
+    photopic: (f64, f64),
     /// (MAE over all readings and channels, RMSE_rel of Ev): model, after apply, truth.
     before: (f64, f64),
     after: (f64, f64),
@@ -118,6 +121,20 @@ fn evaluate(c: &SpectralCase) -> Outcome {
     let model = c.model(&c.model_text, &opts(false)).unwrap();
     let pm = c.photopic(&c.model_text, &model, &opts(true)).unwrap();
     let ex = explain(&pm, &model, &[], DEFAULT_SENSOR_SIGMA);
+    let rgb = pm.predict(&[]);
+    let dev: Vec<f64> = (0..model.obs.len())
+        .map(|i| (model.quantities(i, None).sim.ev / rgb[i] - 1.0).abs())
+        .collect();
+    let photopic = (
+        dev.iter().sum::<f64>() / dev.len() as f64,
+        dev.iter().copied().fold(0.0, f64::max),
+    );
+    eprintln!(
+        "{}: spectral vs RGB photopic illuminance: mean |dev| {:.2} %, max {:.2} %",
+        c.name,
+        100.0 * photopic.0,
+        100.0 * photopic.1
+    );
     eprintln!("== {} (hidden {:?})\n{}", c.name, c.hidden, text(&ex));
     let scene = scene_of(&c.model_text).unwrap();
     let room = room_of(&scene, &c.sensors);
@@ -130,6 +147,7 @@ fn evaluate(c: &SpectralCase) -> Outcome {
         after: errors(&after),
         noise: errors(&truth),
         ex,
+        photopic,
     };
     eprintln!(
         "{}: 18-channel MAE {:.3e} -> {:.3e} (noise-only {:.3e}) W m-2 nm-1; RMSE_rel(Ev) \
@@ -238,6 +256,16 @@ fn applied_tint_reaches_the_noise_level() {
 fn control_reports_nothing() {
     let c = case("control", vec![]);
     let o = evaluate(&c);
+    // Invariant: the 18-band simulation weighted photopically is the photopic one (same
+    // scene, seed and settings, so the same paths), up to one constant: CIE photopic
+    // illuminance (683 lm/W x ybar) of equal-energy light is 683 x 106.857 nm / 400 nm =
+    // 182.5 lm/W against Radiance's 179 (WHTEFFICACY): +1.93 % for every reading.
+    let k = 683.0 * 106.857 / 400.0 / 179.0 - 1.0;
+    assert!(
+        (o.photopic.0 - k).abs() < 0.002 && o.photopic.1 - o.photopic.0 < 0.002,
+        "{:?} vs {k}",
+        o.photopic
+    );
     assert!(o.ex.selected.is_empty(), "{}", text(&o.ex));
     assert!(
         o.ex.verdict.starts_with("no significant missing effect"),

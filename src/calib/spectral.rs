@@ -60,7 +60,8 @@ pub fn band_centres(ch: &Channels) -> Vec<f64> {
 pub struct SpectralModel {
     pub sim: SpectralSim,
     /// Observations: sensor, step (index into the measured steps), value = measured
-    /// photopic illuminance (ratio estimator, see [`channels`]).
+    /// photopic illuminance (ratio estimator, see [`channels`]) on Radiance's photopic scale
+    /// (what the photopic model predicts).
     pub obs: Vec<Bound>,
     /// Channel readings of each observation.
     pub meas: Vec<Vec<f64>>,
@@ -205,8 +206,24 @@ impl SpectralModel {
             skies,
             base_tau: glass_transmittance(scene, &ch),
         };
+        // The photopic model works on Radiance's photopic scale (179 lm/W x its RGB or band
+        // weights, `179 sum v_b A_b`); CIE illuminance (683 lm/W x ybar) of the same bands is
+        // larger by 683 x int ybar / (400 x 179) (1.93 % over 380-780 nm) for any spectrum.
+        let full = Channels::spectral(3, 380.0, 780.0)
+            .map(|c| {
+                crate::material::spectrum::band_integrals(
+                    &crate::uplift::colorimetry::tables().cmf[1],
+                    &c,
+                )
+                .iter()
+                .sum::<f64>()
+            })
+            .unwrap_or(106.857);
+        let to_radiance = crate::radiometry::WHITE_EFFICACY
+            * crate::metrics::melanopic::RADIANCE_SPAN_NM
+            / (crate::uplift::melanopic::KM * full);
         for i in 0..m.obs.len() {
-            m.obs[i].value = m.quantities(i, None).ev_meas;
+            m.obs[i].value = m.quantities(i, None).ev_meas * to_radiance;
         }
         Ok(m)
     }

@@ -278,4 +278,26 @@ mod tests {
             let _ = SpectralReadings::parse(&GOOD[..n], "s.csv");
         }
     }
+
+    #[test]
+    fn random_bytes_never_panic() {
+        // A fixed LCG (Knuth's MMIX constants): reproducible garbage, some of it CSV-like.
+        let mut x: u64 = 1;
+        let alphabet = b"0123456789.,-enm\n#month,day,hour,sensor, ";
+        for len in [0usize, 1, 7, 60, 300] {
+            for _ in 0..50 {
+                let bytes: Vec<u8> = (0..len)
+                    .map(|_| {
+                        x = x
+                            .wrapping_mul(6364136223846793005)
+                            .wrapping_add(1442695040888963407);
+                        alphabet[(x >> 33) as usize % alphabet.len()]
+                    })
+                    .collect();
+                let text = String::from_utf8_lossy(&bytes);
+                let _ = SpectralReadings::parse(&format!("{GOOD}{text}"), "s.csv");
+                let _ = SpectralReadings::parse(&text, "s.csv");
+            }
+        }
+    }
 }
