@@ -23,8 +23,8 @@
 //! - [`recon`]: laser scan to a watertight room (`rrecon`).
 //! - [`cli`]: what the thin binaries in `bin/` share (exit codes, progress, atomic output).
 
-pub mod cal;
 pub mod calib;
+pub mod cal;
 pub mod cli;
 pub mod error;
 pub mod formats;

@@ -21,8 +21,8 @@
 //! Coordinates everywhere: +X east, +Y north, +Z zenith; radiance in W sr^-1 m^-2 of
 //! Radiance's visible "white" (luminance / 179).
 
-pub mod atmosphere;
 pub mod cie;
+pub mod atmosphere;
 pub mod efficacy;
 pub mod gendaylit;
 pub mod genssky;
