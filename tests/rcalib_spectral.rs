@@ -83,7 +83,12 @@ fn london() -> Weather {
     .unwrap()
 }
 
+/// Tracing is serialised: the cases share coefficients (the same model scene), and two
+/// threads tracing the same key at once would share rdc's scratch scene file.
+static TRACING: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
 fn case_in(name: &str, weather: Weather, hidden: Vec<Effect>) -> SpectralCase {
+    let _lock = TRACING.lock().unwrap_or_else(|e| e.into_inner());
     generate(
         name,
         RoomKind::Deep,
@@ -118,6 +123,7 @@ fn errors(m: &SpectralModel) -> (f64, f64) {
 }
 
 fn evaluate(c: &SpectralCase) -> Outcome {
+    let _lock = TRACING.lock().unwrap_or_else(|e| e.into_inner());
     let model = c.model(&c.model_text, &opts(false)).unwrap();
     let pm = c.photopic(&c.model_text, &model, &opts(true)).unwrap();
     let ex = explain(&pm, &model, &[], DEFAULT_SENSOR_SIGMA);
@@ -198,7 +204,10 @@ fn scan_picks_the_hidden_level() {
             curvature: 0.0,
         }],
     );
-    let model = c.model(&c.model_text, &opts(false)).unwrap();
+    let model = {
+        let _lock = TRACING.lock().unwrap_or_else(|e| e.into_inner());
+        c.model(&c.model_text, &opts(false)).unwrap()
+    };
     let depth = |s: usize| c.sensors[s].ray.org[1];
     let s = scan::scan(&model, 0, &depth);
     eprintln!("{}", scan::text(&s));
@@ -362,6 +371,7 @@ fn command_line_on_the_bundled_case() {
     std::fs::create_dir_all(&tmp).unwrap();
     let arg = |p: &str| ex.join(p).display().to_string();
     let effects = tmp.join("effects.txt");
+    let _lock = TRACING.lock().unwrap_or_else(|e| e.into_inner());
     let out = std::process::Command::new(env!("CARGO_BIN_EXE_rcalib"))
         .args([
             "spectral",
