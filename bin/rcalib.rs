@@ -32,6 +32,8 @@ Examples (the bundled case, examples/calib):
       --weather ... --measured ... --report after.html
   rcalib tmscan model.rad --sensors ... --weather ... --measured ...   (seed ch. 6)
   rcalib synth --room deep --climate sunny --effect walls:0.5 --out case/
+  rcalib spectral model.rad --sensors ... --weather ... --measured spectral.csv --explain
+      (spectral readings: month,day,hour,sensor,410nm,...; seed ch. 6 + glazing tint)
 
 Readings CSV: month,day,hour,sensor,lux (hour in the weather file's convention, e.g.
 12.5); sensors: .pts (ids = line numbers) or CSV id,x,y,z,dx,dy,dz; weather: .wea or
@@ -63,6 +65,56 @@ enum Cmd {
     Tmscan(CommonArgs),
     /// Generate a hidden-effect test case (model, truth, sensors, weather, readings).
     Synth(SynthArgs),
+    /// Spectral readings: the seed's chapter-6 workflow (window options by 18-channel MAE at
+    /// the control sensor, Table 6.4 for Ev, m-EDI, M/P), optionally explain with the tint.
+    Spectral(SpectralArgs),
+}
+
+#[derive(Args)]
+struct SpectralArgs {
+    /// Scene files of the model (.rad).
+    #[arg(required = true)]
+    scene: Vec<String>,
+    /// Sensors: .pts or CSV with ids.
+    #[arg(long)]
+    sensors: String,
+    /// Weather of the measurement period (.wea or .epw).
+    #[arg(long)]
+    weather: String,
+    /// Spectral readings: month,day,hour,sensor,<one column per channel, e.g. 410nm>.
+    #[arg(long)]
+    measured: String,
+    /// Channel response curves: wavelength,<channel>,... (default: each channel is the
+    /// simulated band containing its centre wavelength).
+    #[arg(long)]
+    response: Option<String>,
+    /// Control sensor id (default: the sensor nearest a window).
+    #[arg(long)]
+    control: Option<String>,
+    /// Simulated bands (Radiance -cs).
+    #[arg(long = "cs", default_value_t = 18)]
+    cs: usize,
+    /// Simulated wavelength range in nm (Radiance -cw).
+    #[arg(long = "cw", num_args = 2, default_values_t = [380.0, 780.0])]
+    cw: Vec<f64>,
+    /// Also explain: fit the photopic effects and the glazing tint, print `--effect`s.
+    #[arg(long)]
+    explain: bool,
+    /// Assumed per-sensor spread for --explain (relative).
+    #[arg(long, default_value_t = DEFAULT_SENSOR_SIGMA)]
+    sensor_sigma: f64,
+    /// Write the selected effects here as `--effect SPEC` arguments for `rcalib apply`
+    /// (with --explain; else the selected window option).
+    #[arg(long)]
+    effects_out: Option<PathBuf>,
+    /// Write the tables as HTML here.
+    #[arg(long)]
+    report: Option<PathBuf>,
+    /// Write the tables (and the explanation) as JSON here.
+    #[arg(long)]
+    json: Option<PathBuf>,
+    #[command(flatten)]
+    sim: SimArgs,
 }
 
 #[derive(Args, Clone)]
@@ -215,6 +267,14 @@ struct SynthArgs {
     /// Output directory (model.rad, truth.rad, sensors.csv, weather.wea, measured.csv).
     #[arg(long)]
     out: PathBuf,
+    /// Spectral readings: one channel per band of -cs 18 -cw 380 780 (W m-2 nm-1), and a
+    /// control sensor inside the first window (as the seed's); effects may include
+    /// tint:SCALE,SLOPE,CURVATURE.
+    #[arg(long)]
+    spectral: bool,
+    /// With --spectral: keep only these sensors of the room (1-based, comma separated).
+    #[arg(long)]
+    keep: Option<String>,
     #[command(flatten)]
     sim: SimArgs,
 }
@@ -226,7 +286,7 @@ fn main() {
 /// Radiance spellings (-ab 5) to the long options clap knows (--ab 5).
 fn radiance_spellings(args: impl Iterator<Item = String>) -> Vec<String> {
     args.map(|a| match a.as_str() {
-        "-ab" | "-ad" | "-lw" => format!("-{a}"),
+        "-ab" | "-ad" | "-lw" | "-cs" | "-cw" => format!("-{a}"),
         _ => a,
     })
     .collect()
@@ -250,6 +310,7 @@ fn real_main() -> Result<(), Error> {
         Cmd::Apply(a) => cmd_apply(a),
         Cmd::Tmscan(a) => cmd_tmscan(a),
         Cmd::Synth(a) => cmd_synth(a),
+        Cmd::Spectral(a) => cmd_spectral(a),
     }
 }
 
@@ -485,6 +546,9 @@ fn cmd_synth(a: SynthArgs) -> Result<(), Error> {
         .map(|s| Effect::parse(s, &ids, &wids))
         .collect::<Result<Vec<_>, _>>()?;
     let opts = a.sim.options(false)?;
+    if a.spectral {
+        return synth_spectral(&a, kind, climate, weather, &scene, sensors, hidden, &opts);
+    }
     let case = cases::generate(
         &format!("{}-{}", kind.name(), climate.name()),
         kind,
@@ -527,6 +591,153 @@ fn cmd_synth(a: SynthArgs) -> Result<(), Error> {
         a.out.display(),
         case.readings.len(),
         case.sensors.len(),
+        idx.len()
+    );
+    Ok(())
+}
+
+fn cmd_spectral(a: SpectralArgs) -> Result<(), Error> {
+    use rdaylight::calib::spectral::{self, explain as sx, scan};
+    let (lo, hi) = match a.cw.as_slice() {
+        [lo, hi] => (*lo, *hi),
+        _ => return Err(Error::Usage("-cw: expected MIN MAX in nm".into())),
+    };
+    let ch = rdaylight::radiometry::Channels::spectral(a.cs, lo, hi)?;
+    let inp = spectral::load(
+        &a.scene,
+        &a.sensors,
+        &a.weather,
+        &a.measured,
+        a.response.as_deref(),
+        &ch,
+    )?;
+    let control = inp.control(a.control.as_deref())?;
+    let opts = a.sim.options(false)?;
+    let sm = inp.model(&opts)?;
+    let room = rdaylight::calib::room::Room::new(
+        &inp.scene,
+        rdaylight::calib::room::sensor_centroid(&inp.sensors),
+        &[],
+    );
+    let depth = |s: usize| inp.depth(&room, s);
+    let sc = scan::scan(&sm, control, &depth);
+    print!("{}", scan::text(&sc));
+    let ex = if a.explain {
+        let pm = inp.photopic(&sm, &a.sim.options(true)?)?;
+        let ex = sx::explain(&pm, &sm, &[], a.sensor_sigma);
+        print!("{}", sx::text(&ex));
+        if !ex.specs.is_empty() {
+            println!(
+                "apply with: rcalib apply {} --sensors {} {}",
+                a.scene.join(" "),
+                a.sensors,
+                ex.specs
+                    .iter()
+                    .map(|s| format!("--effect {s}"))
+                    .collect::<Vec<_>>()
+                    .join(" ")
+            );
+        }
+        Some(ex)
+    } else {
+        println!(
+            "apply with: rcalib apply {} --sensors {} --effect {}",
+            a.scene.join(" "),
+            a.sensors,
+            sc.effect
+        );
+        None
+    };
+    if let Some(p) = &a.effects_out {
+        let specs = match &ex {
+            Some(e) => e.specs.clone(),
+            None => vec![sc.effect.clone()],
+        };
+        let args: Vec<String> = specs.iter().map(|s| format!("--effect {s}")).collect();
+        write_file(p, &format!("{}\n", args.join(" ")))?;
+    }
+    if let Some(p) = &a.report {
+        write_file(p, &scan::html(&sc, ex.as_ref().map(sx::text).as_deref()))?;
+    }
+    if let Some(p) = &a.json {
+        let doc = serde_json::json!({ "scan": sc, "explanation": ex });
+        let text =
+            serde_json::to_string_pretty(&doc).map_err(|e| Error::Usage(format!("JSON: {e}")))?;
+        write_file(p, &text)?;
+    }
+    Ok(())
+}
+
+#[allow(clippy::too_many_arguments)]
+fn synth_spectral(
+    a: &SynthArgs,
+    kind: RoomKind,
+    climate: Climate,
+    weather: Weather,
+    scene: &rdaylight::scene::Scene,
+    room_sensors: Vec<rdaylight::formats::sensors::Sensor>,
+    hidden: Vec<Effect>,
+    opts: &Options,
+) -> Result<(), Error> {
+    use rdaylight::calib::spectral::{case, readings};
+    let room = cases::room_of(scene, &room_sensors);
+    let mut sensors: Vec<_> = case::window_control(&room).into_iter().collect();
+    match &a.keep {
+        Some(k) => {
+            for item in k.split(',') {
+                let i: usize = item.trim().parse().map_err(|_| {
+                    Error::Usage(format!("--keep '{item}': expected 1-based sensor numbers"))
+                })?;
+                let s = room_sensors.get(i.wrapping_sub(1)).ok_or_else(|| {
+                    Error::Usage(format!(
+                        "--keep {i}: the room has {} sensors",
+                        room_sensors.len()
+                    ))
+                })?;
+                sensors.push(s.clone());
+            }
+        }
+        None => sensors.extend(room_sensors),
+    }
+    let c = case::generate(
+        &format!("{}-{}-spectral", kind.name(), climate.name()),
+        kind,
+        sensors,
+        weather,
+        hidden,
+        a.steps,
+        a.noise_seed,
+        &opts.settings,
+        opts.cache.clone(),
+        &rdaylight::calib::spectral::seed_channels(),
+    )?;
+    std::fs::create_dir_all(&a.out).map_err(|e| Error::io(a.out.display().to_string(), e))?;
+    write_file(&a.out.join("model.rad"), &c.model_text)?;
+    write_file(
+        &a.out.join("truth.rad"),
+        &format!(
+            "# truth of synthetic spectral case {} (hidden: {})\n{}",
+            c.name,
+            a.effects.join(" "),
+            c.truth_text
+        ),
+    )?;
+    rdaylight::cli::write_atomically(&a.out.join("sensors.csv"), |w| write_sensors(w, &c.sensors))?;
+    let (idx, _) = rdaylight::calib::spectral::measured_steps(&c.bound);
+    write_file(
+        &a.out.join("weather.wea"),
+        &rdaylight::calib::simulate::subset_wea(&c.weather, &idx),
+    )?;
+    let r = c.readings();
+    rdaylight::cli::write_atomically(&a.out.join("measured.csv"), |w| {
+        readings::write_csv(w, &r.names, &r.readings)
+    })?;
+    println!(
+        "wrote {}: model.rad truth.rad sensors.csv weather.wea measured.csv ({} spectral readings, {} channels, {} sensors, {} steps)",
+        a.out.display(),
+        c.bound.len(),
+        r.names.len(),
+        c.sensors.len(),
         idx.len()
     );
     Ok(())

@@ -7,6 +7,7 @@
 //! | obstruction | vertical facets (plastic, reflectance [`OBSTRUCTION_REFLECTANCE`]) on a circle of radius [`OBSTRUCTION_RADIUS`] around the windows, as high as the fitted horizon altitude seen from the window centres |
 //! | overhang | a horizontal plate at the window head, `depth` deep, wider than the window by `depth` each side |
 //! | local-obstruction | an opaque panel (a box 0.1 m thick) between the sensors and the window, as high as blocks the fitted fraction of the window's elevation span seen from them |
+//! | tint | a `spectrum` pattern (the fitted transmittance shape and level) on every `glass` material |
 //! | sensor-fault | nothing in the model (comment only); the readings are divided by the factors ([`correct_readings`]) |
 //!
 //! The output is the scene written canonically (comments of the input are not kept) with a
@@ -171,6 +172,11 @@ pub fn apply(
                 }
             }
             Effect::SensorFault { .. } => {}
+            Effect::Tint {
+                scale,
+                slope,
+                curvature,
+            } => s = super::effects::tint::tinted_scene(&s, *scale, *slope, *curvature)?,
         }
     }
     let mut out = String::new();

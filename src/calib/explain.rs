@@ -74,6 +74,8 @@ pub fn fit_family(f: &Fitter, base: &[Effect], family: &str) -> Option<Effect> {
         "overhang" => effects::overhang::fit(f, base),
         "local-obstruction" => effects::local::fit(f, base),
         "sensor-fault" => effects::sensor::fit(f, base),
+        // Level only from photopic readings; the shape: crate::calib::spectral::explain.
+        "tint" => effects::tint::fit(f, base),
         _ => None,
     }
 }

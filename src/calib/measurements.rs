@@ -57,7 +57,8 @@ pub struct Bound {
     pub value: f64,
 }
 
-fn fields(line: &str) -> Vec<&str> {
+/// Comma-separated fields of a line, trimmed (also used by the spectral readings).
+pub(crate) fn fields(line: &str) -> Vec<&str> {
     let r: nom::IResult<&str, Vec<&str>> = separated_list1(
         char(','),
         delimited(space0, take_while(|c: char| c != ','), space0),
@@ -67,7 +68,8 @@ fn fields(line: &str) -> Vec<&str> {
         .unwrap_or_default()
 }
 
-fn number(word: &str) -> Option<f64> {
+/// A finite number filling the whole word.
+pub(crate) fn number(word: &str) -> Option<f64> {
     let r: nom::IResult<&str, f64> =
         nom::combinator::all_consuming(nom::number::complete::double).parse(word);
     match r {
@@ -76,7 +78,33 @@ fn number(word: &str) -> Option<f64> {
     }
 }
 
-fn shorten(s: &str) -> String {
+/// Check a reading's month (1-12), day (1-31) and decimal hour (0-24).
+pub(crate) fn check_stamp(
+    month: f64,
+    day: f64,
+    hour: f64,
+    at: &dyn Fn() -> Location,
+) -> Result<()> {
+    if !(1.0..=12.0).contains(&month) || month.fract() != 0.0 {
+        return Err(Error::parse(
+            at(),
+            format!("month {month}: expected 1 to 12"),
+        ));
+    }
+    if !(1.0..=31.0).contains(&day) || day.fract() != 0.0 {
+        return Err(Error::parse(at(), format!("day {day}: expected 1 to 31")));
+    }
+    if !(0.0..=24.0).contains(&hour) {
+        return Err(Error::parse(
+            at(),
+            format!("hour {hour}: expected decimal hours 0 to 24"),
+        ));
+    }
+    Ok(())
+}
+
+/// At most 40 characters of `s` for messages.
+pub(crate) fn shorten(s: &str) -> String {
     if s.chars().count() > 40 {
         format!("{}...", s.chars().take(37).collect::<String>())
     } else {
@@ -143,21 +171,7 @@ impl Measurements {
                 })
             };
             let (month, day, hour, value) = (num(0)?, num(1)?, num(2)?, num(4)?);
-            if !(1.0..=12.0).contains(&month) || month.fract() != 0.0 {
-                return Err(Error::parse(
-                    at(),
-                    format!("month {month}: expected 1 to 12"),
-                ));
-            }
-            if !(1.0..=31.0).contains(&day) || day.fract() != 0.0 {
-                return Err(Error::parse(at(), format!("day {day}: expected 1 to 31")));
-            }
-            if !(0.0..=24.0).contains(&hour) {
-                return Err(Error::parse(
-                    at(),
-                    format!("hour {hour}: expected decimal hours 0 to 24"),
-                ));
-            }
+            check_stamp(month, day, hour, &at)?;
             if value < 0.0 {
                 return Err(Error::parse(
                     at(),

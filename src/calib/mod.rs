@@ -22,6 +22,7 @@
 //! | [`svg`], [`report`] | inline-SVG figures, the HTML report, JSON and text summaries |
 //! | [`cases`] | hidden-effect test cases: truth rooms, climates, noisy readings |
 //! | [`session`] | files -> model, shared by every command |
+//! | [`spectral`] | spectral readings (18-channel sensors): the seed's chapter-6 workflow, Table 6.4, the glazing tint (issue 8) |
 
 pub mod apply;
 pub mod cache;

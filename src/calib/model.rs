@@ -170,6 +170,7 @@ impl Model {
         for e in effects {
             match e {
                 Effect::Transmittance { .. } => effects::transmittance::apply(e, self, &mut w),
+                Effect::Tint { .. } => effects::tint::apply(e, self, &mut w),
                 Effect::Obstruction { .. } => effects::obstruction::apply(e, self, &mut w),
                 Effect::Reflectance { class, scale } => {
                     if let Some(i) = self.refl.iter().position(|r| r.class == *class) {

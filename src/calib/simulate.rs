@@ -258,7 +258,9 @@ impl Tracer {
         })
     }
 
-    fn run(&self, scene_text: &str, kind: &[&str]) -> Result<Vec<f64>> {
+    /// One cached rdc run of `scene_text` with extra options `kind` (`SUNS` stands for the
+    /// measured steps' `.wea`): the flat values of every sensor row.
+    pub fn run(&self, scene_text: &str, kind: &[&str]) -> Result<Vec<f64>> {
         let settings = format!("{:?}", self.settings);
         let kinds = kind.join(" ");
         let suns = if kind.contains(&"--suns") {

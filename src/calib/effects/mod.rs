@@ -12,6 +12,7 @@
 //! | [`overhang`] | depth above a window head | high patches and high suns, per sensor | sun hours near the window |
 //! | [`local`] | blocked fraction of the direct light at a group of sensors | direct sky and sun at those sensors | a few neighbouring sensors, sun hours |
 //! | [`sensor`] | calibration factor per faulty sensor | one sensor's readings | constant ratio at one sensor |
+//! | [`tint`] | glazing level, spectral slope and curvature | the window's light per wavelength | channel ratios (spectral readings only) |
 //!
 //! Effects compose ([`Model::predict`](super::model::Model::predict)): exterior weights per
 //! patch and sun, window weights (overhang), per-sensor direct-light weights (local), then
@@ -50,6 +51,12 @@ pub enum Effect {
     LocalObstruction { sensors: Vec<usize>, fraction: f64 },
     /// Readings of `sensor` are `factor` times the true illuminance.
     SensorFault { factors: Vec<(usize, f64)> },
+    /// Glazing transmittance times `scale` with a spectral shape ([`tint`]).
+    Tint {
+        scale: f64,
+        slope: f64,
+        curvature: f64,
+    },
 }
 
 /// Names of the effect families, in the order they are tried.
@@ -80,6 +87,7 @@ impl Effect {
             Effect::Overhang { .. } => "overhang",
             Effect::LocalObstruction { .. } => "local-obstruction",
             Effect::SensorFault { .. } => "sensor-fault",
+            Effect::Tint { .. } => "tint",
         }
     }
 
@@ -92,6 +100,7 @@ impl Effect {
             Effect::Overhang { .. } => 2,
             Effect::LocalObstruction { .. } => 3,
             Effect::SensorFault { factors } => factors.len(),
+            Effect::Tint { .. } => 3,
         }
     }
 
@@ -104,6 +113,7 @@ impl Effect {
             Effect::Overhang { depth, .. } => ("depth_m", *depth),
             Effect::LocalObstruction { fraction, .. } => ("fraction", *fraction),
             Effect::SensorFault { factors } => ("factor", factors.first().map_or(1.0, |f| f.1)),
+            Effect::Tint { scale, .. } => ("scale", *scale),
         }
     }
 
@@ -111,7 +121,9 @@ impl Effect {
     pub fn with_primary(&self, v: f64) -> Effect {
         let mut e = self.clone();
         match &mut e {
-            Effect::Transmittance { scale } | Effect::Reflectance { scale, .. } => *scale = v,
+            Effect::Transmittance { scale }
+            | Effect::Reflectance { scale, .. }
+            | Effect::Tint { scale, .. } => *scale = v,
             Effect::Obstruction { altitude, .. } => *altitude = v,
             Effect::Overhang { depth, .. } => *depth = v,
             Effect::LocalObstruction { fraction, .. } => *fraction = v,
@@ -151,6 +163,11 @@ impl Effect {
                     .collect::<Vec<_>>()
                     .join("+")
             ),
+            Effect::Tint {
+                scale,
+                slope,
+                curvature,
+            } => tint::spec(*scale, *slope, *curvature),
         }
     }
 
@@ -161,7 +178,8 @@ impl Effect {
             Error::Usage(format!(
                 "--effect '{spec}': {what}; expected one of transmittance:SCALE, \
                  obstruction:AZIMUTH,HALF_WIDTH,ALTITUDE, walls|ceiling|floor|ground-albedo:SCALE, \
-                 overhang:DEPTH[,WINDOW], local-obstruction:FRACTION,ID+ID, sensor-fault:ID=F+ID=F"
+                 overhang:DEPTH[,WINDOW], local-obstruction:FRACTION,ID+ID, sensor-fault:ID=F+ID=F, \
+                 tint:SCALE,SLOPE,CURVATURE"
             ))
         };
         let nums = |s: &str| -> Result<Vec<f64>> {
@@ -248,6 +266,7 @@ impl Effect {
                     .collect::<Result<Vec<_>>>()?;
                 Effect::SensorFault { factors }
             }
+            "tint" => tint::parse(params).map_err(|m| bad(&m))?,
             _ => return Err(bad(&format!("unknown effect '{name}'"))),
         })
     }
@@ -292,6 +311,11 @@ impl Effect {
                     .collect::<Vec<_>>()
                     .join(", ")
             ),
+            Effect::Tint {
+                scale,
+                slope,
+                curvature,
+            } => tint::describe(*scale, *slope, *curvature),
         }
     }
 }

@@ -1,0 +1,153 @@
+//! # Spectral irradiance at the measured steps through N-band daylight coefficients
+//!
+//! The photopic simulation's method ([`crate::calib::simulate`]) with `rdc -cs N -cw a b`
+//! coefficients and spectral skies:
+//!
+//! ```text
+//! v(s,t,b) = Σ_p DC(s,p,b) · Y_p(t) · S_p(t,b)  +  Vsun(s,t,b) · L_sun(t) · S_sun(t,b)
+//! ```
+//!
+//! - `DC`: sky coefficients with all bounces, `N` bands (`rdc -I -m MF -cs N -cw a b`);
+//!   `Vsun`: a unit-radiance white sun disc at the step's position with all bounces (one
+//!   `rdc -I -dj 0 -cs N` run per sunlit step), as the photopic `Vsun`.
+//! - `Y_p(t)`, `L_sun(t)`: the photopic Perez sky (no sun) and sun-disc radiance of the
+//!   step, exactly the photopic model's ([`StepSky`]).
+//! - `S(t,b)`: the spectra of [`crate::sky::spectral`] (rspecsky): CIE daylight of a CCT
+//!   that follows the Perez clearness (diffuse sky) and the sun altitude (sun); the ground
+//!   patch gets their mix by diffuse and direct horizontal irradiance. Each is normalised to
+//!   unit Radiance photopic value, so the spectral result weighted photopically is the
+//!   photopic simulation (to Monte Carlo noise).
+//!
+//! Coefficients are cached with the photopic ones ([`Tracer::run`]).
+
+use crate::calib::simulate::{StepSky, Tracer};
+use crate::error::{Error, Result};
+use crate::radiometry::{Channels, RGB_PHOTOPIC};
+use crate::scene::Scene;
+use crate::sky::spectral::{daylight_bands, photopic_shares, sky_cct, sun_cct};
+
+/// Simulated band values of every (sensor, step).
+#[derive(Debug, Clone, PartialEq)]
+pub struct SpectralSim {
+    pub ch: Channels,
+    pub nsens: usize,
+    pub nsteps: usize,
+    /// `[s][t][b]`, Radiance band values (irradiance x 400 nm).
+    pub values: Vec<f64>,
+}
+
+impl SpectralSim {
+    /// Band values of one (sensor, step).
+    pub fn at(&self, s: usize, t: usize) -> &[f64] {
+        let n = self.ch.ncomp;
+        let i = (s * self.nsteps + t) * n;
+        self.values.get(i..i + n).unwrap_or(&[])
+    }
+}
+
+/// `-cs N -cw a b` of a channel layout.
+pub fn cs_args(ch: &Channels) -> Vec<String> {
+    vec![
+        "-cs".into(),
+        ch.ncomp.to_string(),
+        "-cw".into(),
+        ch.splits[3].to_string(),
+        ch.splits[0].to_string(),
+    ]
+}
+
+/// Spectra (band values, unit photopic) of the sky, sun and ground of a step.
+pub fn step_spectra(sk: &StepSky, ch: &Channels) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
+    let shares = photopic_shares(ch);
+    let s_sky = daylight_bands(sky_cct(sk.clearness.max(1.0)), ch, &shares);
+    let alt = sk.sun_altitude_deg.to_radians();
+    let s_sun = daylight_bands(sun_cct(alt), ch, &shares);
+    let dir = sk.dni * alt.sin().max(0.0);
+    let w = if sk.dhi + dir > 0.0 {
+        dir / (sk.dhi + dir)
+    } else {
+        0.0
+    };
+    let ground = s_sky
+        .iter()
+        .zip(&s_sun)
+        .map(|(a, b)| (1.0 - w) * a + w * b)
+        .collect();
+    (s_sky, s_sun, ground)
+}
+
+/// Spectral irradiance of `scene` at the tracer's sensors and the steps `skies`.
+pub fn simulate(
+    tracer: &Tracer,
+    scene: &Scene,
+    skies: &[StepSky],
+    nsens: usize,
+    ch: &Channels,
+) -> Result<SpectralSim> {
+    let n = ch.ncomp;
+    let text = scene.to_string();
+    let mf = tracer.settings.mf.to_string();
+    let cs = cs_args(ch);
+    let mut kind: Vec<&str> = vec!["-m", &mf];
+    kind.extend(cs.iter().map(String::as_str));
+    let dc = tracer.run(&text, &kind)?;
+    let npatch = crate::sky::SkyPatches::new(tracer.settings.mf).len();
+    if dc.len() != nsens * npatch * n {
+        return Err(Error::Mismatch(format!(
+            "rdc returned {} spectral sky coefficients for {nsens} sensors, {npatch} patches \
+             and {n} bands",
+            dc.len()
+        )));
+    }
+    let nt = skies.len();
+    let mut values = vec![0.0; nsens * nt * n];
+    for (t, sk) in skies.iter().enumerate() {
+        let (s_sky, s_sun, s_ground) = step_spectra(sk, ch);
+        for p in 0..npatch {
+            let rgb = sk.sky.get(p * 3..p * 3 + 3).unwrap_or(&[0.0; 3]);
+            let y: f64 = rgb.iter().zip(RGB_PHOTOPIC).map(|(a, b)| a * b).sum();
+            if y == 0.0 {
+                continue;
+            }
+            let spec = if p == 0 { &s_ground } else { &s_sky };
+            for s in 0..nsens {
+                let c = &dc[(s * npatch + p) * n..][..n];
+                let o = &mut values[(s * nt + t) * n..][..n];
+                for b in 0..n {
+                    o[b] += c[b] * y * spec[b];
+                }
+            }
+        }
+        if sk.sun_altitude_deg > 0.0 && sk.sun_radiance > 0.0 {
+            let d = sk.sun_dir;
+            // Radiance 1e4 keeps single-precision colours far from underflow (as the
+            // photopic Vsun run).
+            let sun_scene = format!(
+                "{text}\nvoid light rcalib_sun_mat 0 0 3 1e4 1e4 1e4\n\
+                 rcalib_sun_mat source rcalib_sun 0 0 4 {} {} {} 0.533\n",
+                d[0], d[1], d[2]
+            );
+            let mut k: Vec<&str> = vec!["-dj", "0"];
+            k.extend(cs.iter().map(String::as_str));
+            let v = tracer.run(&sun_scene, &k)?;
+            if v.len() != nsens * n {
+                return Err(Error::Mismatch(format!(
+                    "rdc returned {} values for {nsens} sensors and {n} bands",
+                    v.len()
+                )));
+            }
+            for s in 0..nsens {
+                let o = &mut values[(s * nt + t) * n..][..n];
+                for b in 0..n {
+                    o[b] += v[s * n + b] * 1e-4 * sk.sun_radiance * s_sun[b];
+                }
+            }
+        }
+    }
+    Ok(SpectralSim {
+        ch: *ch,
+        nsens,
+        nsteps: nt,
+        values,
+    })
+}
