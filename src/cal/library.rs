@@ -356,9 +356,12 @@ fn modulo(n: f64, d: f64) -> f64 {
 }
 
 /// Radiance's deterministic `rand(x)` (calfunc.c `l_rand`): a hash of `x` in [0, 1).
+/// The constants are e and pi/4 to 15 digits *as calfunc.c writes them*: the final
+/// `1e5 / x` amplifies any difference in the last digits.
+#[allow(clippy::approx_constant)]
 fn rand(x: f64) -> f64 {
-    let mut x = x * (1.0 / (1.0 + x * x) + std::f64::consts::E);
-    x += std::f64::consts::FRAC_PI_4 - x.floor();
+    let mut x = x * (1.0 / (1.0 + x * x) + 2.718_281_828_459_04);
+    x += 0.785_398_163_397_447 - x.floor();
     x = 1e5 / x;
     x - x.floor()
 }
