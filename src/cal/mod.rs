@@ -19,6 +19,7 @@
 pub mod eval;
 pub mod library;
 pub mod parse;
+pub mod pattern;
 
 use std::collections::HashMap;
 

@@ -12,6 +12,10 @@
 //!   negated radii; a cone with equal radii is a cylinder.
 //! - `source` primitives become [`DistantSource`]s (see [`super::sources`]).
 //!
+//! - Function-file patterns (`brightfunc`, `colorfunc`, `specfunc`, `specdata`; the `.cal`
+//!   evaluator of [`crate::cal`]): on distant glows (skies) evaluated per escaping ray; on
+//!   surfaces and lights only when their value does not depend on the ray (then they act
+//!   like the constant spectral patterns below).
 //! - Constant spectral patterns (`spectrum`, `specfile`, Radiance 6) anywhere between a
 //!   surface or source and its material, or modifying the material, multiply the material's
 //!   colour ([`crate::material::spectrum`]): spectral reflectance of walls, spectral
@@ -19,12 +23,13 @@
 //!
 //! Refused with `Error::unsupported` at the object's `file:line` (so nothing is silently
 //! rendered wrong): `instance`, `mesh` and other surface types; other patterns, textures and
-//! mixtures on surfaces (`specdata`, `specpict`, which need `.cal` evaluation, included); materials other than plastic/metal/trans/glass/mirror/glow (e.g.
+//! mixtures on surfaces (`specpict`, and function-file patterns whose value depends on the ray, included); materials other than plastic/metal/trans/glass/mirror/glow (e.g.
 //! BSDF, `spotlight`); *local* direct sources (`light`, `illum`, `glow` with maxrad > 0 on
 //! surfaces: no next-event estimation to surfaces yet); `mirror`/`illum` alternate
 //! materials; patterns on distant sources other than the two sky functions above.
 
 use super::sources::{DistantKind, DistantSource, SkyPattern, Sources};
+use crate::cal::pattern::{CalPatterns, ScenePatterns, is_cal_pattern};
 use crate::error::{Error, Result};
 use crate::geometry::{Bvh, Object as GeoObject, Shape, Vec3};
 use crate::material::spectrum::Sampled;
@@ -73,17 +78,31 @@ fn unsupported(o: &Object, what: impl Into<String>) -> Error {
     Error::unsupported(o.loc.clone(), what)
 }
 
-/// Whether object `k` is a constant spectral pattern ([`spectral_color`] handles it).
-fn is_spectral(scene: &Scene, k: usize) -> bool {
+/// Whether object `k` is a constant spectral pattern ([`spectral_color`] handles it):
+/// `spectrum`, `specfile`, or a function-file pattern that does not depend on the ray.
+fn is_spectral(cal: &ScenePatterns, scene: &Scene, k: usize) -> bool {
     matches!(
         scene.objects[k].kind,
         Primitive::Spectrum { .. } | Primitive::SpecFile { .. }
-    )
+    ) || (!native_sky(&scene.objects[k]) && cal.is_constant(k))
+}
+
+/// The gensky and gendaylit sky functions, evaluated natively (their `.cal` files need not
+/// be installed).
+fn native_sky(o: &Object) -> bool {
+    match &o.kind {
+        Primitive::BrightFunc { function, file, .. } => matches!(
+            (basename(file), function.as_str()),
+            ("skybright.cal", "skybr") | ("perezlum.cal", "skybright")
+        ),
+        _ => false,
+    }
 }
 
 /// The product of the constant spectral patterns among `patterns` in the run's channels
 /// (`None` when there are none).
 fn spectral_color(
+    cal: &ScenePatterns,
     scene: &Scene,
     patterns: impl IntoIterator<Item = usize>,
     ch: &Channels,
@@ -107,6 +126,14 @@ fn spectral_color(
                     ));
                 }
             },
+            _ if is_cal_pattern(o) && cal.is_constant(k) => {
+                let c = cal.constant_color(k)?;
+                out = Some(match out {
+                    Some(p) => p * c,
+                    None => c,
+                });
+                continue;
+            }
             _ => continue,
         };
         if !s.values.iter().all(|v| v.is_finite()) {
@@ -126,12 +153,35 @@ fn spectral_color(
 
 /// The sky pattern of a distant glow from the patterns modifying its material (spectral
 /// patterns are taken apart by [`spectral_color`]).
-fn sky_pattern(scene: &Scene, src: &Object, material: usize, ch: &Channels) -> Result<SkyPattern> {
+fn sky_pattern(
+    cal: &ScenePatterns,
+    scene: &Scene,
+    src: &Object,
+    material: usize,
+    ch: &Channels,
+) -> Result<SkyPattern> {
     let pats: Vec<usize> = scene
         .patterns_of(material)
         .into_iter()
-        .filter(|&k| !is_spectral(scene, k))
+        .filter(|&k| !is_spectral(cal, scene, k))
         .collect();
+    // Function-file patterns other than the two sky functions evaluated natively go to the
+    // `.cal` evaluator, all of them together.
+    if !pats.is_empty()
+        && pats.iter().all(|&k| {
+            let o = &scene.objects[k];
+            is_cal_pattern(o) && !(pats.len() == 1 && native_sky(o))
+        })
+    {
+        let list = pats
+            .iter()
+            .map(|&k| cal.get(k))
+            .collect::<Result<Vec<_>>>()?;
+        return Ok(SkyPattern::Cal(std::sync::Arc::new(CalPatterns {
+            list,
+            ch: *ch,
+        })));
+    }
     match pats.as_slice() {
         [] => Ok(SkyPattern::Uniform),
         [p] => {
@@ -246,7 +296,9 @@ fn specpict(po: &Object, strings: &[String], reals: &[f64], ch: &Channels) -> Re
     )))
 }
 
+#[allow(clippy::too_many_arguments)]
 fn distant_source(
+    cal: &ScenePatterns,
     scene: &Scene,
     i: usize,
     o: &Object,
@@ -273,7 +325,7 @@ fn distant_source(
     let between: Vec<usize> = scene.modifier_chain(i).take_while(|&k| k != m).collect();
     if let Some(&p) = between
         .iter()
-        .find(|&&k| scene.objects[k].class() != Class::Material && !is_spectral(scene, k))
+        .find(|&&k| scene.objects[k].class() != Class::Material && !is_spectral(cal, scene, k))
     {
         let po = &scene.objects[p];
         return Err(unsupported(
@@ -285,7 +337,12 @@ fn distant_source(
         ));
     }
     let mo = &scene.objects[m];
-    let pcol = spectral_color(scene, between.into_iter().chain(scene.patterns_of(m)), ch)?;
+    let pcol = spectral_color(
+        cal,
+        scene,
+        between.into_iter().chain(scene.patterns_of(m)),
+        ch,
+    )?;
     let mat = Material::build_patterned(&mo.kind, ch, opts, &mo.loc, &mo.id, pcol)?;
     let Some(Material::Emitter(Emitter { color, kind })) = mat else {
         // Radiance: a source with a non-emitting material is no light source; rays that
@@ -300,7 +357,7 @@ fn distant_source(
             if scene
                 .patterns_of(m)
                 .into_iter()
-                .any(|k| !is_spectral(scene, k))
+                .any(|k| !is_spectral(cal, scene, k))
             {
                 return Err(unsupported(
                     mo,
@@ -321,7 +378,7 @@ fn distant_source(
     let pattern = if kind == DistantKind::Light {
         SkyPattern::Uniform
     } else {
-        sky_pattern(scene, o, m, ch)?
+        sky_pattern(cal, scene, o, m, ch)?
     };
     Ok(Some(DistantSource::new(
         o.id.clone(),
@@ -413,10 +470,13 @@ impl Renderable {
         // index in `materials`.
         let mut mat_index: std::collections::HashMap<(usize, Vec<usize>), u32> = Default::default();
         let mut sources = Sources::default();
+        let cal = ScenePatterns::new(scene, ch);
         for (i, o) in scene.objects.iter().enumerate() {
             match &o.kind {
                 Primitive::Source { direction, angle } => {
-                    if let Some(s) = distant_source(scene, i, o, *direction, *angle, ch, opts)? {
+                    if let Some(s) =
+                        distant_source(&cal, scene, i, o, *direction, *angle, ch, opts)?
+                    {
                         sources.list.push(s);
                     }
                     continue;
@@ -442,13 +502,18 @@ impl Renderable {
                 .iter()
                 .copied()
                 .chain(scene.patterns_of(m))
-                .find(|&k| !is_spectral(scene, k))
+                .find(|&k| !is_spectral(&cal, scene, k))
             {
                 let po = &scene.objects[p];
+                let why = if is_cal_pattern(po) {
+                    "its value depends on the ray; function-file patterns on surfaces are evaluated only when constant"
+                } else {
+                    "patterns and textures are not modelled"
+                };
                 return Err(unsupported(
                     po,
                     format!(
-                        "{} '{}' modifying surface '{}' (patterns and textures are not modelled)",
+                        "{} '{}' modifying surface '{}' ({why})",
                         po.type_name(),
                         po.id,
                         o.id
@@ -461,6 +526,7 @@ impl Renderable {
                 None => {
                     let mo = &scene.objects[m];
                     let pcol = spectral_color(
+                        &cal,
                         scene,
                         key.1.iter().copied().chain(scene.patterns_of(m)),
                         ch,

@@ -36,6 +36,9 @@ pub enum SkyPattern {
     PerezLum([f64; 10]),
     /// genssky's `specpict` sky picture (spectral; see [`crate::sky::specpict`]).
     SpecPict(std::sync::Arc<crate::sky::specpict::SpecPictSky>),
+    /// Other function-file patterns (`.cal` brightfunc, colorfunc, specfunc, specdata),
+    /// evaluated per direction by [`crate::cal`].
+    Cal(std::sync::Arc<crate::cal::pattern::CalPatterns>),
 }
 
 impl SkyPattern {
@@ -46,7 +49,7 @@ impl SkyPattern {
             SkyPattern::SkyBright(a) => crate::sky::cie::skybright(dir.to_array(), a),
             SkyPattern::PerezLum(a) => crate::sky::perez::perezlum(dir.to_array(), a),
             // Spectral: applied per channel by `DistantSource::radiance`.
-            SkyPattern::SpecPict(_) => 1.0,
+            SkyPattern::SpecPict(_) | SkyPattern::Cal(_) => 1.0,
         }
     }
 }
@@ -111,6 +114,9 @@ impl DistantSource {
         match &self.pattern {
             SkyPattern::Uniform => self.color,
             SkyPattern::SpecPict(p) => self.color * p.lookup(dir.to_array()),
+            SkyPattern::Cal(p) => {
+                self.color * p.eval(&crate::cal::pattern::RayVars::escaping(dir.to_array()))
+            }
             _ => self.color.scale(self.pattern.factor(dir)),
         }
     }
