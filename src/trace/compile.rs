@@ -126,7 +126,7 @@ fn spectral_color(
                     ));
                 }
             },
-            _ if is_cal_pattern(o) && cal.is_constant(k) => {
+            _ if is_cal_pattern(o) && !native_sky(o) && cal.is_constant(k) => {
                 let c = cal.constant_color(k)?;
                 out = Some(match out {
                     Some(p) => p * c,
