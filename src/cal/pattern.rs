@@ -502,3 +502,80 @@ impl<'s> ScenePatterns<'s> {
         self.ch
     }
 }
+
+/// A surface material modified by function-file patterns that depend on the ray: rebuilt
+/// at each hit with the pattern colour there (Radiance's `r->pcol`, which `raytexture`
+/// sets before the material routine runs, with the geometric normal, before any flip).
+#[derive(Debug, Clone)]
+pub struct PatternedMaterial {
+    kind: Primitive,
+    loc: crate::error::Location,
+    id: String,
+    /// Product of the constant patterns of the chain.
+    base: Option<Color>,
+    pats: CalPatterns,
+    opts: crate::material::ShadingOptions,
+    /// The material without the varying patterns, used if a hit's colour is unusable.
+    fallback: crate::material::Material,
+}
+
+impl PatternedMaterial {
+    /// `material` is the scene object of the material, `base` the constant pattern colour,
+    /// `fallback` the material built with `base` only.
+    pub fn new(
+        material: &Object,
+        base: Option<Color>,
+        pats: CalPatterns,
+        opts: &crate::material::ShadingOptions,
+        fallback: crate::material::Material,
+    ) -> Self {
+        PatternedMaterial {
+            kind: material.kind.clone(),
+            loc: material.loc.clone(),
+            id: material.id.clone(),
+            base,
+            pats,
+            opts: *opts,
+            fallback,
+        }
+    }
+
+    /// The material at a hit: `dir` the ray direction, `normal` the unflipped geometric
+    /// normal, `point` the hit point, `t` the distance travelled.
+    pub fn at(
+        &self,
+        dir: [f64; 3],
+        normal: [f64; 3],
+        point: [f64; 3],
+        t: f64,
+    ) -> crate::material::Material {
+        let rdot = -(dir[0] * normal[0] + dir[1] * normal[1] + dir[2] * normal[2]);
+        let ray = RayVars {
+            dir,
+            normal,
+            point,
+            dist: t,
+            rdot,
+        };
+        let mut pcol = self.pats.eval(&ray);
+        if let Some(b) = self.base {
+            pcol = pcol * b;
+        }
+        // Colours must be finite and non-negative for the material; Radiance would carry a
+        // negative pattern value into the shading, we fall back to the unpatterned material.
+        if !pcol.as_slice().iter().all(|v| v.is_finite() && *v >= 0.0) {
+            return self.fallback.clone();
+        }
+        match crate::material::Material::build_patterned(
+            &self.kind,
+            &self.pats.ch,
+            &self.opts,
+            &self.loc,
+            &self.id,
+            Some(pcol),
+        ) {
+            Ok(Some(m)) => m,
+            _ => self.fallback.clone(),
+        }
+    }
+}

@@ -14,8 +14,10 @@
 //!
 //! - Function-file patterns (`brightfunc`, `colorfunc`, `specfunc`, `specdata`; the `.cal`
 //!   evaluator of [`crate::cal`]): on distant glows (skies) evaluated per escaping ray; on
-//!   surfaces and lights only when their value does not depend on the ray (then they act
-//!   like the constant spectral patterns below).
+//!   surfaces per hit (the material is rebuilt with the pattern colour there,
+//!   [`Renderable::material_at`]), or once when their value does not depend on the ray
+//!   (then they act like the constant spectral patterns below); on `light` sources only
+//!   when constant.
 //! - Constant spectral patterns (`spectrum`, `specfile`, Radiance 6) anywhere between a
 //!   surface or source and its material, or modifying the material, multiply the material's
 //!   colour ([`crate::material::spectrum`]): spectral reflectance of walls, spectral
@@ -23,13 +25,13 @@
 //!
 //! Refused with `Error::unsupported` at the object's `file:line` (so nothing is silently
 //! rendered wrong): `instance`, `mesh` and other surface types; other patterns, textures and
-//! mixtures on surfaces (`specpict`, and function-file patterns whose value depends on the ray, included); materials other than plastic/metal/trans/glass/mirror/glow (e.g.
+//! mixtures on surfaces (`specpict` and other picture or data patterns, textures, transforms on function-file patterns); materials other than plastic/metal/trans/glass/mirror/glow (e.g.
 //! BSDF, `spotlight`); *local* direct sources (`light`, `illum`, `glow` with maxrad > 0 on
 //! surfaces: no next-event estimation to surfaces yet); `mirror`/`illum` alternate
 //! materials; patterns on distant sources other than the two sky functions above.
 
 use super::sources::{DistantKind, DistantSource, SkyPattern, Sources};
-use crate::cal::pattern::{CalPatterns, ScenePatterns, is_cal_pattern};
+use crate::cal::pattern::{CalPatterns, PatternedMaterial, ScenePatterns, is_cal_pattern};
 use crate::error::{Error, Result};
 use crate::geometry::{Bvh, Object as GeoObject, Shape, Vec3};
 use crate::material::spectrum::Sampled;
@@ -54,6 +56,9 @@ pub struct Renderable {
     /// Per BVH object id.
     pub(super) surfaces: Vec<SurfaceInfo>,
     pub(super) materials: Vec<Material>,
+    /// Per material: `Some` when ray-dependent `.cal` patterns modify it (rebuilt per hit,
+    /// see [`Renderable::material_at`]).
+    pub(super) patterned: Vec<Option<std::sync::Arc<PatternedMaterial>>>,
     pub(super) sources: Sources,
     pub(super) ncomp: usize,
 }
@@ -469,6 +474,7 @@ impl Renderable {
         // (Scene index of a material, spectral patterns between surface and material) ->
         // index in `materials`.
         let mut mat_index: std::collections::HashMap<(usize, Vec<usize>), u32> = Default::default();
+        let mut patterned: Vec<Option<std::sync::Arc<PatternedMaterial>>> = Vec::new();
         let mut sources = Sources::default();
         let cal = ScenePatterns::new(scene, ch);
         for (i, o) in scene.objects.iter().enumerate() {
@@ -498,22 +504,22 @@ impl Renderable {
                 continue; // void: transparent to every ray (see the module documentation)
             };
             let between: Vec<usize> = scene.modifier_chain(i).take_while(|&k| k != m).collect();
-            if let Some(p) = between
-                .iter()
-                .copied()
-                .chain(scene.patterns_of(m))
-                .find(|&k| !is_spectral(&cal, scene, k))
-            {
-                let po = &scene.objects[p];
-                let why = if is_cal_pattern(po) {
-                    "its value depends on the ray; function-file patterns on surfaces are evaluated only when constant"
-                } else {
-                    "patterns and textures are not modelled"
-                };
+            // Ray-dependent function-file patterns are evaluated per hit; any other
+            // non-constant pattern or texture is refused.
+            let mut varying = Vec::new();
+            for k in between.iter().copied().chain(scene.patterns_of(m)) {
+                if is_spectral(&cal, scene, k) {
+                    continue;
+                }
+                let po = &scene.objects[k];
+                if is_cal_pattern(po) && !native_sky(po) {
+                    varying.push(cal.get(k)?);
+                    continue;
+                }
                 return Err(unsupported(
                     po,
                     format!(
-                        "{} '{}' modifying surface '{}' ({why})",
+                        "{} '{}' modifying surface '{}' (patterns and textures are not modelled)",
                         po.type_name(),
                         po.id,
                         o.id
@@ -565,6 +571,18 @@ impl Renderable {
                         _ => {}
                     }
                     let k = materials.len() as u32;
+                    patterned.push((!varying.is_empty()).then(|| {
+                        std::sync::Arc::new(PatternedMaterial::new(
+                            mo,
+                            pcol,
+                            CalPatterns {
+                                list: varying,
+                                ch: *ch,
+                            },
+                            opts,
+                            mat.clone(),
+                        ))
+                    }));
                     materials.push(mat);
                     mat_index.insert(key, k);
                     k
@@ -601,9 +619,30 @@ impl Renderable {
             bvh,
             surfaces,
             materials,
+            patterned,
             sources,
             ncomp: ch.ncomp.max(1),
         })
+    }
+
+    /// The material of index `k` at a hit (`dir` the ray direction, `h` the hit): the
+    /// compiled material, or for ray-dependent `.cal` patterns, the material with the
+    /// pattern colour at this hit.
+    pub(super) fn material_at(
+        &self,
+        k: u32,
+        dir: Vec3,
+        h: &crate::geometry::Hit,
+    ) -> std::borrow::Cow<'_, Material> {
+        match self.patterned.get(k as usize).and_then(|p| p.as_deref()) {
+            Some(p) => std::borrow::Cow::Owned(p.at(
+                dir.to_array(),
+                h.normal.to_array(),
+                h.point.to_array(),
+                h.t,
+            )),
+            None => std::borrow::Cow::Borrowed(&self.materials[k as usize]),
+        }
     }
 
     /// The distant sources (sun, sky, ground) in scene order.
