@@ -67,9 +67,12 @@ impl Program {
     }
 
     fn loc(&self, src: usize, off: usize) -> Location {
-        let (file, text) = &self.sources[src];
+        let (file, text) = match self.sources.get(src) {
+            Some((f, t)) => (f.as_str(), t.as_str()),
+            None => ("", ""),
+        };
         let (l, c) = parse::line_col(text, off);
-        Location::at(file.clone(), l, c)
+        Location::at(file, l, c)
     }
 
     fn relink(&mut self) {
@@ -105,15 +108,26 @@ impl Program {
     }
 
     fn link(&self, r: &Raw, params: &[String], index: &HashMap<String, usize>, src: usize) -> Expr {
+        self.link_with(r, params, index, &|off| self.loc(src, off))
+    }
+
+    /// Link `r`; `loc` gives the location of a byte offset in its source.
+    fn link_with(
+        &self,
+        r: &Raw,
+        params: &[String],
+        index: &HashMap<String, usize>,
+        loc: &dyn Fn(usize) -> Location,
+    ) -> Expr {
         let param = |n: &str| params.iter().position(|p| p == n);
         match r {
             Raw::Num(v) => Expr::Num(*v),
             Raw::Chan(n) => Expr::Chan(*n),
-            Raw::Neg(a) => Expr::Neg(Box::new(self.link(a, params, index, src))),
+            Raw::Neg(a) => Expr::Neg(Box::new(self.link_with(a, params, index, loc))),
             Raw::Bin(op, a, b) => Expr::Bin(
                 *op,
-                Box::new(self.link(a, params, index, src)),
-                Box::new(self.link(b, params, index, src)),
+                Box::new(self.link_with(a, params, index, loc)),
+                Box::new(self.link_with(b, params, index, loc)),
             ),
             Raw::Name(n, at) => {
                 if let Some(i) = param(n) {
@@ -135,13 +149,13 @@ impl Program {
                 }
                 Expr::Undefined {
                     name: n.clone(),
-                    at: self.loc(src, *at),
+                    at: loc(*at),
                 }
             }
             Raw::Call(n, at, args) => {
                 let args = args
                     .iter()
-                    .map(|a| self.link(a, params, index, src))
+                    .map(|a| self.link_with(a, params, index, loc))
                     .collect();
                 let callee = if let Some(i) = param(n) {
                     Callee::Param(i)
@@ -152,7 +166,7 @@ impl Program {
                 } else {
                     Callee::Undefined {
                         name: n.clone(),
-                        at: self.loc(src, *at),
+                        at: loc(*at),
                     }
                 };
                 Expr::Call(callee, args)
@@ -164,10 +178,11 @@ impl Program {
     /// argument, an rcalc `-e` right-hand side); `name` labels it in errors.
     pub fn expr(&self, text: &str, name: &str) -> Result<Expr> {
         let raw = parse::parse_expr(text, name)?;
-        let mut tmp = self.clone();
-        tmp.sources.push((name.to_string(), text.to_string()));
-        let src = tmp.sources.len() - 1;
-        Ok(tmp.link(&raw, &[], &self.names, src))
+        let loc = |off: usize| {
+            let (l, c) = parse::line_col(text, off);
+            Location::at(name, l, c)
+        };
+        Ok(self.link_with(&raw, &[], &self.names, &loc))
     }
 
     /// Evaluate an expression from [`Program::expr`].
@@ -177,6 +192,52 @@ impl Program {
             inputs,
         }
         .eval(e, None, 0)
+    }
+
+    /// Whether evaluating `e` can read the ray (`$n`, `Dx`..., `D(i)`...): a static check
+    /// through every definition it can reach, so a constant result can be computed once.
+    pub fn reads_ray(&self, e: &Expr) -> bool {
+        let mut seen = vec![false; self.defs.len()];
+        self.reads_ray_in(e, &mut seen)
+    }
+
+    /// [`Program::reads_ray`] for a function handle's body.
+    pub fn function_reads_ray(&self, f: &Function) -> bool {
+        let mut seen = vec![false; self.defs.len()];
+        match &f.callee {
+            Callee::User(d) => self.def_reads_ray(*d, &mut seen),
+            Callee::Lib(l) => matches!(l, library::Lib::Vec3(_)),
+            _ => false,
+        }
+    }
+
+    fn def_reads_ray(&self, d: usize, seen: &mut [bool]) -> bool {
+        match seen.get_mut(d) {
+            Some(s) if !*s => *s = true,
+            _ => return false,
+        }
+        self.reads_ray_in(&self.defs[d].body, seen)
+    }
+
+    fn reads_ray_in(&self, e: &Expr, seen: &mut [bool]) -> bool {
+        match e {
+            Expr::Chan(_) => true,
+            Expr::Num(_) | Expr::Arg(_) | Expr::Param(_) | Expr::Undefined { .. } => false,
+            Expr::LibName(l) => matches!(l, library::Lib::Vec3(_)),
+            Expr::Var(d) => self.def_reads_ray(*d, seen),
+            Expr::Neg(a) => self.reads_ray_in(a, seen),
+            Expr::Bin(_, a, b) => self.reads_ray_in(a, seen) || self.reads_ray_in(b, seen),
+            Expr::Call(c, args) => {
+                let callee = match c {
+                    Callee::User(d) => self.def_reads_ray(*d, seen),
+                    Callee::Lib(l) => matches!(l, library::Lib::Vec3(_)),
+                    // A function passed in: its name is among the caller's arguments,
+                    // which are checked below.
+                    Callee::Param(_) | Callee::Undefined { .. } => false,
+                };
+                callee || args.iter().any(|a| self.reads_ray_in(a, seen))
+            }
+        }
     }
 
     /// Whether `name` is defined in the files (not counting built-ins).
@@ -325,6 +386,25 @@ mod tests {
             }
         }
         assert!(Program::parse(text, "p.cal").is_ok());
+    }
+
+    #[test]
+    fn reads_ray_follows_definitions_and_function_arguments() {
+        let p = Program::parse(
+            "a = b + 1; b = Dz; c = arg(1) * 2; f(x) = x * PI; g(h, x) = h(x); \
+             r(i) = rand(i); up(i) = N(i);",
+            "r.cal",
+        )
+        .unwrap();
+        let reads = |e: &str| p.reads_ray(&p.expr(e, "e").unwrap());
+        assert!(reads("a"));
+        assert!(!reads("c + f(3) + r(2)"));
+        assert!(reads("f(Px)"));
+        assert!(reads("g(up, 3)"));
+        assert!(!reads("g(r, 3)"));
+        assert!(reads("$3"));
+        assert!(p.function_reads_ray(&p.function("up").unwrap()));
+        assert!(!p.function_reads_ray(&p.function("f").unwrap()));
     }
 
     #[test]

@@ -306,38 +306,28 @@ impl CalPattern {
             kind,
             ray_dependent: true,
         };
-        pat.ray_dependent = pat.probe_dependence(ch);
+        pat.ray_dependent = pat.reads_ray();
         pat.try_eval(&RayVars::escaping([0.0, 0.0, 1.0]), ch)
             .map_err(|e| Error::parse(o.loc.clone(), format!("{}: {e}", pat.id)))?;
         Ok(pat)
     }
 
-    /// Whether the value can change from ray to ray (it reads `$n` somewhere): checked by
-    /// evaluating with two very different rays and comparing.
-    fn probe_dependence(&self, ch: &Channels) -> bool {
-        let a = RayVars {
-            dir: [0.3, -0.5, 0.8],
-            normal: [0.1, 0.7, -0.7],
-            point: [1.3, -2.1, 0.7],
-            dist: 3.3,
-            rdot: 0.4,
-        };
-        let b = RayVars {
-            dir: [-0.6, 0.2, -0.77],
-            normal: [-0.9, 0.1, 0.4],
-            point: [-5.0, 4.5, 11.0],
-            dist: 17.0,
-            rdot: -0.6,
-        };
-        match (self.try_eval(&a, ch), self.try_eval(&b, ch)) {
-            (Ok(x), Ok(y)) => x != y,
-            _ => true,
+    /// Whether the value can change from ray to ray: a static check that no expression or
+    /// function the pattern evaluates reads a ray variable.
+    fn reads_ray(&self) -> bool {
+        let p = &self.program;
+        match &self.kind {
+            Kind::Bright(e) => p.reads_ray(e),
+            Kind::Color(es) => es.iter().any(|e| p.reads_ray(e)),
+            Kind::SpecFunc { f, .. } => p.function_reads_ray(f),
+            Kind::SpecData { f, coords, .. } => {
+                p.function_reads_ray(f) || coords.iter().any(|e| p.reads_ray(e))
+            }
         }
     }
 
     /// True when the pattern does not depend on the ray (so a constant colour can stand
-    /// for it). A pattern that reads ray variables only in ways that happened to give the
-    /// same value at both probe rays counts as constant; that needs contrived files.
+    /// for it).
     pub fn is_constant(&self) -> bool {
         !self.ray_dependent
     }
