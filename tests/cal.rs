@@ -159,3 +159,75 @@ fn undefined_function_names_itself_in_both() {
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("g(): undefined function"));
 }
+
+/// A small deterministic generator (xorshift64*) for the robustness tests.
+struct Gen(u64);
+impl Gen {
+    fn next(&mut self) -> u64 {
+        self.0 ^= self.0 >> 12;
+        self.0 ^= self.0 << 25;
+        self.0 ^= self.0 >> 27;
+        self.0.wrapping_mul(0x2545_f491_4f6c_dd1d)
+    }
+    fn pick<'a>(&mut self, from: &[&'a str]) -> &'a str {
+        from[(self.next() % from.len() as u64) as usize]
+    }
+}
+
+#[test]
+fn random_cal_text_never_panics() {
+    // Tokens of the language, glued at random (plus raw random bytes), parsed and, when
+    // that succeeds, every definition evaluated: errors are fine, panics and stack
+    // overflows are not.
+    let tokens = [
+        "a", "b", "f", "x", "(", ")", ",", ";", "=", ":", "+", "-", "*", "/", "^", "1", ".5",
+        "2e3", "$1", "if", "select", "sqrt", "Dz", "A1", "{c}", " ", "\n", "PI", "`",
+    ];
+    let mut g = Gen(0x9e37_79b9_7f4a_7c15);
+    let mut parsed = 0;
+    for _ in 0..3000 {
+        // Mostly "name = <random tokens>" so that a fair share parses and evaluates.
+        let n = 1 + (g.next() % 12) as usize;
+        let body: String = (0..n).map(|_| g.pick(&tokens)).collect();
+        let text = match g.next() % 4 {
+            0 => body,
+            _ => format!("{} = {body}", g.pick(&["a", "b", "x", "f(x)", "f(a, b)"])),
+        };
+        if let Ok(p) = Program::parse(&text, "r.cal") {
+            parsed += 1;
+            for name in ["a", "b", "x"] {
+                if p.defines(name) {
+                    let _ = p.var(name, Inputs::default());
+                }
+            }
+            if let Ok(f) = p.function("f") {
+                let _ = p.call(&f, &[1.0, 2.0], Inputs::default());
+            }
+        }
+    }
+    assert!(parsed > 200, "only {parsed} random programs parsed");
+    for _ in 0..500 {
+        let bytes: Vec<u8> = (0..(g.next() % 64)).map(|_| g.next() as u8).collect();
+        let _ = Program::parse(&String::from_utf8_lossy(&bytes), "r.cal");
+    }
+}
+
+#[test]
+fn random_data_files_never_panic() {
+    use rdaylight::scene::specdata::DataArray;
+    let tokens = [
+        "0", "1", "2", "3", "-1", "0.5", "380", "780", "1e9", "x", "#c\n", " ", "\n",
+    ];
+    let mut g = Gen(0x1234_5678_9abc_def1);
+    for _ in 0..3000 {
+        let n = (g.next() % 30) as usize;
+        let text: String = (0..n).map(|_| g.pick(&tokens)).collect();
+        if let Ok(d) = DataArray::parse(&text, "r.dat") {
+            let pt = [0.3, 700.0, -5.0, 1e3, 2.0];
+            let _ = d.value(&pt[..d.dims()]);
+            if d.dims() >= 2 {
+                let _ = d.vector(&pt[..d.dims() - 1]);
+            }
+        }
+    }
+}
