@@ -1,5 +1,5 @@
 //! The `.cal` grammar (Radiance's `calcomp` language), parsed with `nom` into a raw tree that
-//! still holds names; [`super::link`] resolves them.
+//! still holds names; [`super::Program`] links them to definitions.
 //!
 //! Grammar (from `src/common/calexpr.c`, `caldefn.c` and the `rcalc(1)` manual):
 //!

@@ -8,6 +8,10 @@
 //! | `specfunc` | `sfunc file.cal [xf]` | `nmA nmB A3..` | `sfunc(nm)` sampled over `nmA..nmB` (clipped to the run's range) in `(nmB - nmA)/24` steps, then band-averaged |
 //! | `specdata` | `sfunc data.dat file.cal x1 .. x(N-1) [xf]` | `A1..` | the N-D data file interpolated at the coordinates `x1..` over its first N-1 axes; its last axis is wavelength; `sfunc(value, nm)` per sample, then band-averaged |
 //!
+//! Where they apply: on distant glows (skies) per escaping ray ([`CalPatterns`] in
+//! [`crate::trace::SkyPattern`]); on surfaces per hit ([`PatternedMaterial`]), or once when
+//! no expression they evaluate reads the ray ([`CalPattern::is_constant`]).
+//!
 //! `file.cal` may be `.` (no file). Coordinates and colour expressions are expressions in
 //! the file's context. The band averaging is the one `spectrum` and `specfile` use
 //! ([`crate::material::spectrum::Sampled::to_channels`], Radiance's `convertscolorcol`).
@@ -18,6 +22,8 @@
 //!   `frandom()` (noise that averages to the same value);
 //! - on distant sources the ray origin is taken as the world origin (`Px Py Pz` = 0;
 //!   Radiance uses the origin of the ray that escaped);
+//! - `T` and `Ts` are the length of the current ray segment (Radiance adds the distances
+//!   of the parent rays of the same kind, `raydist`); they agree for primary rays;
 //! - an evaluation error inside a render (a missing real argument, runaway recursion)
 //!   leaves the ray's colour unchanged, as Radiance's "compute error" warning does; errors
 //!   that every ray would hit are found when the scene is compiled, at a probe ray.
