@@ -15,7 +15,7 @@
 //! - Function-file patterns (`brightfunc`, `colorfunc`, `specfunc`, `specdata`; the `.cal`
 //!   evaluator of [`crate::cal`]): on distant glows (skies) evaluated per escaping ray; on
 //!   surfaces per hit (the material is rebuilt with the pattern colour there,
-//!   [`Renderable::material_at`]), or once when their value does not depend on the ray
+//!   `Renderable::material_at`), or once when their value does not depend on the ray
 //!   (then they act like the constant spectral patterns below); on `light` sources only
 //!   when constant.
 //! - Constant spectral patterns (`spectrum`, `specfile`, Radiance 6) anywhere between a
