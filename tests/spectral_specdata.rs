@@ -179,6 +179,38 @@ fn ray_dependent_surface_patterns_agree_with_rtrace() {
 }
 
 #[test]
+fn transformed_patterns_agree_with_rtrace() {
+    if !common::have_radiance("transformed_patterns_agree_with_rtrace") {
+        return;
+    }
+    // Transforms on patterns: the sky's specdata tilted (-rx), a ground brightfunc that
+    // also reads S and Tx (-rz -s -t), a floor specdata moved, scaled and mirrored.
+    let t = setup(
+        "void specdata skyspec\n6 sf sky_alt.dat sky.cal alt -rx 30\n0\n1 0.7\n\
+         skyspec glow skyglow 0 0 4 1 1 1 0\nskyglow source sky 0 0 4 0 0 1 180\n\
+         void brightfunc gb\n10 .5+Dx*Dx+.1*Dy+S*.01+Tx*.02 . -rz 90 -s 2 -t 1 2 0\n0\n0\n\
+         gb glow groundglow 0 0 4 .2 .2 .2 0\ngroundglow source ground 0 0 4 0 0 -1 180\n\
+         void specdata floorspec\n11 noop refl.dat . Px/4+1 -s 2 -t 1 0 0 -my\n0\n0\n\
+         floorspec plastic floormat 0 0 5 .6 .6 .6 0 0\n\
+         floormat polygon floor 0 0 12 -5 -5 -1 5 -5 -1 5 5 -1 -5 5 -1\n\
+         void light sunmat 0 0 3 1e4 1e4 1e4\nsunmat source sun 0 0 4 .3 .2 .9 .533\n",
+    );
+    let rays = "0 0 0 0 0 1\n0 0 0 -0.7 0.1 0.4\n0 0 0 0.2 -0.9 0.3\n\
+                0 0 0 0.1 0.05 -1\n0 0 0 -0.6 0.2 -0.5\n0 0 0 0.3 0.6 -0.5\n\
+                0 0 -2 0.3 0.6 -0.5\n0 0 -2 -0.5 0.1 -0.2\n";
+    for cs in [&["-cs", "8"][..], &["-cs", "20"]] {
+        let theirs = rtrace(t.path(), cs, rays);
+        let ours = rdc(t.path(), cs, rays);
+        compare(
+            &format!("transformed patterns {cs:?}"),
+            &ours,
+            &theirs,
+            2e-3,
+        );
+    }
+}
+
+#[test]
 fn specfunc_ground_agrees_with_the_mean_of_rtrace() {
     if !common::have_radiance("specfunc_ground_agrees_with_the_mean_of_rtrace") {
         return;
@@ -201,8 +233,8 @@ fn specfunc_ground_agrees_with_the_mean_of_rtrace() {
 
 #[test]
 fn bad_patterns_are_reported_with_location() {
-    // An undefined spectral function names itself; a transform (not modelled) is refused
-    // rather than silently ignored.
+    // An undefined spectral function names itself; a transform option that is not
+    // modelled (-i arrays) is refused rather than silently ignored.
     let t = setup(
         "void specdata bad\n4 nosuch refl.dat . A1\n0\n1 1\n\
          bad plastic m 0 0 5 .5 .5 .5 0 0\nm polygon p 0 0 12 0 0 0 1 0 0 1 1 0 0 1 0\n",
@@ -220,7 +252,7 @@ fn bad_patterns_are_reported_with_location() {
         "{err}"
     );
     let t = setup(
-        "void brightfunc turned\n4 Dx . -rz 90\n0\n0\n\
+        "void brightfunc turned\n5 Dx . -i 2 -rz\n0\n0\n\
          turned plastic m 0 0 5 .5 .5 .5 0 0\nm polygon p 0 0 12 0 0 0 1 0 0 1 1 0 0 1 0\n",
     );
     let out = common::run(
@@ -232,7 +264,7 @@ fn bad_patterns_are_reported_with_location() {
     assert_eq!(out.status.code(), Some(1));
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(
-        err.contains("scene.rad:1:1: unsupported transform '-rz 90' on brightfunc 'turned'"),
+        err.contains("scene.rad:1:1: unsupported transform option '-i' on brightfunc 'turned'"),
         "{err}"
     );
     // A syntax error in the .cal file: file:line:column and what was expected.

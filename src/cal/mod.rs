@@ -20,6 +20,7 @@ pub mod eval;
 pub mod library;
 pub mod parse;
 pub mod pattern;
+pub mod xf;
 
 use std::collections::HashMap;
 

@@ -17,7 +17,7 @@
 //! ([`crate::material::spectrum::Sampled::to_channels`], Radiance's `convertscolorcol`).
 //!
 //! Deviations, each refused or documented rather than silently different:
-//! - transforms (`xf` arguments) are refused;
+//! - transforms (`xf` arguments: [`super::xf`]) apply to what the pattern sees of the ray;
 //! - `specfunc` samples at step centres; Radiance jitters each sample within its step with
 //!   `frandom()` (noise that averages to the same value);
 //! - on distant sources the ray origin is taken as the world origin (`Px Py Pz` = 0;
@@ -33,6 +33,7 @@ use std::collections::HashMap;
 use std::path::PathBuf;
 use std::sync::Arc;
 
+use super::xf::{Xf, is_xf_option};
 use super::{Expr, Function, Inputs, Program};
 use crate::error::{Error, Result};
 use crate::material::Color;
@@ -111,6 +112,8 @@ pub struct CalPattern {
     program: Arc<Program>,
     args: Vec<f64>,
     kind: Kind,
+    /// The inverse of the pattern's transform, if it has one.
+    xf: Option<Xf>,
     ray_dependent: bool,
 }
 
@@ -182,20 +185,21 @@ impl CalPattern {
     /// arguments are reported at the object's location before rendering.
     pub fn from_object(o: &Object, ch: &Channels, loader: &mut Loader) -> Result<CalPattern> {
         let bad = |msg: String| Error::parse(o.loc.clone(), msg);
-        let no_transform = |xf: &[String]| -> Result<()> {
-            if xf.is_empty() {
-                Ok(())
-            } else {
-                Err(Error::unsupported(
-                    o.loc.clone(),
-                    format!(
-                        "transform '{}' on {} '{}'; expected none",
-                        xf.join(" "),
-                        o.type_name(),
-                        o.id
-                    ),
-                ))
+        // Radiance skips words before the first transform option (getfunc).
+        let mut xf: Option<Xf> = None;
+        let mut set_xf = |args: &[String]| -> Result<()> {
+            let start = args
+                .iter()
+                .position(|a| is_xf_option(a))
+                .unwrap_or(args.len());
+            if start < args.len() {
+                xf = Some(Xf::inverse_of(
+                    &args[start..],
+                    &o.loc,
+                    &format!("{} '{}'", o.type_name(), o.id),
+                )?);
             }
+            Ok(())
         };
         let expr = |p: &Program, text: &str| -> Result<Expr> {
             p.expr(
@@ -210,7 +214,7 @@ impl CalPattern {
                 transform,
                 args,
             } => {
-                no_transform(transform)?;
+                set_xf(transform)?;
                 let p = loader.program(file, o)?;
                 let e = expr(&p, function)?;
                 (p, args.clone(), Kind::Bright(e))
@@ -221,7 +225,7 @@ impl CalPattern {
                 transform,
                 args,
             } => {
-                no_transform(transform)?;
+                set_xf(transform)?;
                 let p = loader.program(file, o)?;
                 let [r, g, b] = functions.as_slice() else {
                     return Err(bad(format!(
@@ -244,7 +248,7 @@ impl CalPattern {
                         o.id
                     )));
                 };
-                no_transform(xf)?;
+                set_xf(xf)?;
                 let (Some(&a), Some(&b)) = (reals.first(), reals.get(1)) else {
                     return Err(bad(format!(
                         "specfunc '{}' expects at least 2 real arguments (nmA nmB)",
@@ -286,7 +290,7 @@ impl CalPattern {
                     )));
                 }
                 let (coords, xf) = rest.split_at(nd - 1);
-                no_transform(xf)?;
+                set_xf(xf)?;
                 let p = loader.program(file, o)?;
                 let f = p
                     .function(sfunc)
@@ -310,6 +314,7 @@ impl CalPattern {
             program,
             args,
             kind,
+            xf,
             ray_dependent: true,
         };
         pat.ray_dependent = pat.reads_ray();
@@ -347,7 +352,10 @@ impl CalPattern {
 
     /// The pattern's colour factor, or the evaluation error.
     pub fn try_eval(&self, ray: &RayVars, ch: &Channels) -> Result<Color> {
-        let chan = ray.channels();
+        let mut chan = ray.channels();
+        if let Some(x) = &self.xf {
+            x.apply(&mut chan);
+        }
         let inputs = Inputs {
             chan: &chan,
             args: &self.args,

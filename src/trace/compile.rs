@@ -25,7 +25,7 @@
 //!
 //! Refused with `Error::unsupported` at the object's `file:line` (so nothing is silently
 //! rendered wrong): `instance`, `mesh` and other surface types; other patterns, textures and
-//! mixtures on surfaces (`specpict` and other picture or data patterns, textures, transforms on function-file patterns); materials other than plastic/metal/trans/glass/mirror/glow (e.g.
+//! mixtures on surfaces (`specpict` and other picture or data patterns, textures, `-i` transform arrays on function-file patterns); materials other than plastic/metal/trans/glass/mirror/glow (e.g.
 //! BSDF, `spotlight`); *local* direct sources (`light`, `illum`, `glow` with maxrad > 0 on
 //! surfaces: no next-event estimation to surfaces yet); `mirror`/`illum` alternate
 //! materials; patterns on distant sources other than the two sky functions above.
