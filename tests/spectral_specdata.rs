@@ -211,6 +211,58 @@ fn transformed_patterns_agree_with_rtrace() {
 }
 
 #[test]
+fn radiance_sky_cal_files_with_transforms_agree_with_rtrace() {
+    if !common::have_radiance("radiance_sky_cal_files_with_transforms_agree_with_rtrace") {
+        return;
+    }
+    // Radiance's own skybright.cal (gensky) and perezlum.cal (gendaylit), rotated: with a
+    // transform they are not evaluated natively but read from RAYPATH and run through the
+    // .cal evaluator, a test of the evaluator on real Radiance files.
+    let (_, lib) = common::radiance_dirs().unwrap();
+    let make = |prog: &str, args: &[&str], from: &str, to: &str| -> String {
+        let out = common::run_ok(common::radiance(prog).args(args), b"");
+        let text = String::from_utf8(out).unwrap();
+        assert!(text.contains(from), "{prog} output: {text}");
+        text.replace(from, to)
+    };
+    let skies = [
+        make(
+            "gensky",
+            &["3", "21", "11", "+s", "-a", "40", "-o", "105", "-m", "105"],
+            "2 skybr skybright.cal",
+            "4 skybr skybright.cal -rz 40",
+        ),
+        make(
+            "gendaylit",
+            &[
+                "6", "21", "9.5", "-a", "40", "-o", "105", "-m", "105", "-W", "600", "120",
+            ],
+            "2 skybright perezlum.cal",
+            "4 skybright perezlum.cal -rz -25",
+        ),
+    ];
+    let rays = "0 0 0 0 0 1\n0 0 0 0.3 0.2 0.9\n0 0 0 -0.7 0.1 0.4\n\
+                0 0 0 0.2 -0.9 0.3\n0 0 0 0.9 0.4 0.1\n0 0 0 -0.4 -0.6 0.2\n";
+    for sky in skies {
+        let t = setup(&format!(
+            "{sky}\nskyfunc glow skyglow 0 0 4 1 1 1 0\nskyglow source sky 0 0 4 0 0 1 180\n"
+        ));
+        let theirs = rtrace(t.path(), &[], rays);
+        let ours = rows(
+            &String::from_utf8(common::run_ok(
+                common::ours("rdc")
+                    .current_dir(t.path())
+                    .env("RAYPATH", format!(".:{}", lib.display()))
+                    .args(["-h", "-ab", "0", "scene.rad"]),
+                rays.as_bytes(),
+            ))
+            .unwrap(),
+        );
+        compare("rotated Radiance sky", &ours, &theirs, 2e-3);
+    }
+}
+
+#[test]
 fn specfunc_ground_agrees_with_the_mean_of_rtrace() {
     if !common::have_radiance("specfunc_ground_agrees_with_the_mean_of_rtrace") {
         return;

@@ -92,11 +92,16 @@ fn is_spectral(cal: &ScenePatterns, scene: &Scene, k: usize) -> bool {
     ) || (!native_sky(&scene.objects[k]) && cal.is_constant(k))
 }
 
-/// The gensky and gendaylit sky functions, evaluated natively (their `.cal` files need not
-/// be installed).
+/// The gensky and gendaylit sky functions without a transform, evaluated natively (their
+/// `.cal` files need not be installed); with a transform they go to the `.cal` evaluator.
 fn native_sky(o: &Object) -> bool {
     match &o.kind {
-        Primitive::BrightFunc { function, file, .. } => matches!(
+        Primitive::BrightFunc {
+            function,
+            file,
+            transform,
+            ..
+        } if transform.is_empty() => matches!(
             (basename(file), function.as_str()),
             ("skybright.cal", "skybr") | ("perezlum.cal", "skybright")
         ),
