@@ -25,10 +25,13 @@
 //!
 //! Refused with `Error::unsupported` at the object's `file:line` (so nothing is silently
 //! rendered wrong): `instance`, `mesh` and other surface types; other patterns, textures and
-//! mixtures on surfaces (`specpict` and other picture or data patterns, textures, `-i` transform arrays on function-file patterns); materials other than plastic/metal/trans/glass/mirror/glow (e.g.
-//! BSDF, `spotlight`); *local* direct sources (`light`, `illum`, `glow` with maxrad > 0 on
-//! surfaces: no next-event estimation to surfaces yet); `mirror`/`illum` alternate
-//! materials; patterns on distant sources other than the two sky functions above.
+//! mixtures on surfaces (`specpict` and other picture or data patterns, textures, `-i`
+//! transform arrays on function-file patterns); materials other than
+//! plastic/metal/trans/glass/mirror/glow (e.g. BSDF, `spotlight`); *local* direct sources
+//! (`light`, `illum`, `glow` with maxrad > 0 on surfaces: no next-event estimation to
+//! surfaces yet); `mirror`/`illum` alternate materials; on distant sources, patterns other
+//! than the sky functions, `specpict` and the function-file patterns above, and
+//! ray-dependent patterns on `light` (sun) materials.
 
 use super::sources::{DistantKind, DistantSource, SkyPattern, Sources};
 use crate::cal::pattern::{CalPatterns, PatternedMaterial, ScenePatterns, is_cal_pattern};

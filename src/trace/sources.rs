@@ -16,11 +16,13 @@
 //!   installed RADIANCE 6.0a: a 180-degree glow of radiance 1 defined before a 360-degree glow
 //!   of radiance 5, both towards +Z: rtrace reads 1 looking up and 5 looking down. (Older
 //!   source.c versions kept the last glow; 6.0a keeps the first.)
-//! - A glow's radiance is modulated by its patterns: we support exactly the sky functions of
-//!   `gensky` (`brightfunc skyfunc 2 skybr skybright.cal 0 N A1..`) and `gendaylit`
-//!   (`brightfunc skyfunc 2 skybright perezlum.cal 0 10 A1..A10`), evaluated natively
+//! - A glow's radiance is modulated by its patterns: the sky functions of `gensky`
+//!   (`brightfunc skyfunc 2 skybr skybright.cal 0 N A1..`) and `gendaylit`
+//!   (`brightfunc skyfunc 2 skybright perezlum.cal 0 10 A1..A10`) are evaluated natively
 //!   ([`crate::sky::cie::skybright`], [`crate::sky::perez::perezlum`]) at the escaping ray's
-//!   direction (`Dx Dy Dz`).
+//!   direction (`Dx Dy Dz`); genssky's `specpict` sky by [`crate::sky::specpict`]; any other
+//!   function-file pattern (and those two with a transform) by the `.cal` evaluator
+//!   ([`crate::cal::pattern`]).
 
 use crate::geometry::Vec3;
 use crate::material::Color;
