@@ -332,10 +332,11 @@ fn unsupported_inputs_name_file_and_line() {
             "instance",
         ),
         (
-            "void brightfunc b 2 f my.cal 0 0\nvoid glow g 0 0 4 1 1 1 0\n\
+            // .cal patterns are evaluated now (crate::cal); transform arrays (-i) are not.
+            "void brightfunc b 4 f my.cal -i 2 0 0\nvoid glow g 0 0 4 1 1 1 0\n\
              b glow g2 0 0 4 1 1 1 0\ng2 source s 0 0 4 0 0 1 180\n",
             "test.rad:1",
-            "my.cal",
+            "transform option '-i' on brightfunc 'b'",
         ),
         (
             "void light l 0 0 3 1 1 1\nl polygon p 0 0 9 0 0 0 1 0 0 0 1 0\n",

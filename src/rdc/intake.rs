@@ -37,6 +37,10 @@ pub const SUPPORTED: &[&str] = &[
     "spectrum",
     "specfile",
     "specpict",
+    // Function-file patterns (`crate::cal`): on skies per ray, elsewhere when constant.
+    "colorfunc",
+    "specfunc",
+    "specdata",
 ];
 
 /// Load scene inputs (file paths, `-`, `!command`) and check their primitive types.

@@ -50,24 +50,32 @@ fn word(input: &str) -> IResult<&str, &str> {
     take_while1(|c: char| !c.is_whitespace() && c != '#').parse(input)
 }
 
+/// The words of a data file with their (1-based) lines.
+fn tokens(text: &str) -> Vec<(&str, usize)> {
+    let mut words: Vec<(&str, usize)> = Vec::new();
+    let mut rest = text;
+    let mut line = 1;
+    let mut counted = 0; // bytes of `text` whose newlines are in `line`
+    while let Ok((r, ())) = gap(rest) {
+        rest = r;
+        match word(rest) {
+            Ok((r, w)) => {
+                let offset = text.len() - rest.len();
+                line += text[counted..offset].matches('\n').count();
+                counted = offset;
+                words.push((w, line));
+                rest = r;
+            }
+            Err(_) => break,
+        }
+    }
+    words
+}
+
 impl SpecData {
     /// Parse a one-dimensional data file; `name` is used in error locations.
     pub fn parse(text: &str, name: &str) -> Result<SpecData> {
-        // Tokenise first, remembering each word's line.
-        let mut words: Vec<(&str, usize)> = Vec::new();
-        let mut rest = text;
-        while let Ok((r, ())) = gap(rest) {
-            rest = r;
-            match word(rest) {
-                Ok((r, w)) => {
-                    let offset = text.len() - rest.len();
-                    let line = text[..offset].matches('\n').count() + 1;
-                    words.push((w, line));
-                    rest = r;
-                }
-                Err(_) => break,
-            }
-        }
+        let words = tokens(text);
         let end_line = text.matches('\n').count() + 1;
         let mut it = words.into_iter();
         let mut next = |what: &str| -> Result<(f64, usize)> {
@@ -132,6 +140,221 @@ impl SpecData {
     }
 }
 
+/// Most dimensions a data file may have (Radiance's `MAXDDIM`, `src/common/data.h`).
+pub const MAX_DIMS: usize = 5;
+
+/// One axis of a [`DataArray`]: `n` points from `org` spanning `siz` (negative when
+/// decreasing), or explicit, monotonic `points` (Radiance's `0 0 n p1..pn` form).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Axis {
+    pub org: f64,
+    pub siz: f64,
+    pub n: usize,
+    pub points: Option<Vec<f64>>,
+}
+
+/// An N-dimensional Radiance data file (`getdata`, `src/common/data.c`): the number of
+/// dimensions (1 to [`MAX_DIMS`]), one `begin end n` (or `0 0 n p1..pn`) per axis, then the
+/// values with the last axis varying fastest. `specdata` takes the last axis as wavelength
+/// (`p_specdata` interpolates the first N-1 axes at the coordinates, `datavector`, and keeps
+/// the last as a spectrum).
+#[derive(Debug, Clone, PartialEq)]
+pub struct DataArray {
+    pub axes: Vec<Axis>,
+    pub values: Vec<f64>,
+}
+
+impl DataArray {
+    /// Parse a data file; `name` is used in error locations.
+    pub fn parse(text: &str, name: &str) -> Result<DataArray> {
+        let words = tokens(text);
+        let end_line = text.matches('\n').count() + 1;
+        let mut it = words.into_iter();
+        let mut next = |what: &str| -> Result<(f64, usize)> {
+            match it.next() {
+                None => Err(Error::parse(
+                    Location::line(name, end_line),
+                    format!("unexpected end of data file; expected {what}"),
+                )),
+                Some((w, line)) => match super::parse::parse_real(w) {
+                    Some(v) => Ok((v, line)),
+                    None => Err(Error::parse(
+                        Location::line(name, line),
+                        format!("expected {what} (a number), found '{w}'"),
+                    )),
+                },
+            }
+        };
+        let (nd, line) = next("the number of dimensions")?;
+        if nd.fract() != 0.0 || !(1.0..=MAX_DIMS as f64).contains(&nd) {
+            return Err(Error::parse(
+                Location::line(name, line),
+                format!("expected 1 to {MAX_DIMS} dimensions, found {nd}"),
+            ));
+        }
+        // A cap on counts: there cannot be more numbers than bytes.
+        let cap = text.len() as f64;
+        let mut axes = Vec::new();
+        let mut total = 1usize;
+        for d in 1..=nd as usize {
+            let (org, _) = next(&format!("the start of axis {d}"))?;
+            let (end, _) = next(&format!("the end of axis {d}"))?;
+            let (n, line) = next(&format!("the point count of axis {d}"))?;
+            if n.fract() != 0.0 || n < 2.0 || n > cap || total as f64 * n > cap {
+                return Err(Error::parse(
+                    Location::line(name, line),
+                    format!(
+                        "axis {d}: expected a point count of at least 2 that the file can hold, found {n}"
+                    ),
+                ));
+            }
+            let n = n as usize;
+            total *= n;
+            if end == org {
+                let mut p = Vec::with_capacity(n);
+                for i in 0..n {
+                    p.push(next(&format!("point {} of axis {d}", i + 1))?.0);
+                }
+                if !p.windows(3).all(|t| (t[0] < t[1]) == (t[1] < t[2])) {
+                    return Err(Error::parse(
+                        Location::line(name, line),
+                        format!("axis {d}: irregular points must be monotonic"),
+                    ));
+                }
+                let (first, last) = (p[0], p[n - 1]);
+                axes.push(Axis {
+                    org: first,
+                    siz: last - first,
+                    n,
+                    points: Some(p),
+                });
+            } else {
+                axes.push(Axis {
+                    org,
+                    siz: end - org,
+                    n,
+                    points: None,
+                });
+            }
+        }
+        let mut values = Vec::with_capacity(total);
+        for i in 0..total {
+            values.push(next(&format!("value {} of {total}", i + 1))?.0);
+        }
+        Ok(DataArray { axes, values })
+    }
+
+    /// Number of dimensions.
+    pub fn dims(&self) -> usize {
+        self.axes.len()
+    }
+
+    /// Interpolated value at `pt` (one coordinate per axis): Radiance's `datavalue`.
+    pub fn value(&self, pt: &[f64]) -> f64 {
+        self.interp(0, 0, pt, 1.0, None)
+    }
+
+    /// The last axis's values interpolated at `pt` over the other axes (`pt.len()` =
+    /// dimensions - 1): Radiance's `datavector`. Needs at least two dimensions.
+    pub fn vector(&self, pt: &[f64]) -> Vec<f64> {
+        let n = self.axes.last().map_or(0, |a| a.n);
+        let mut out = vec![0.0; n];
+        if self.axes.len() >= 2 {
+            self.interp(0, 0, pt, 1.0, Some(&mut out));
+        }
+        out
+    }
+
+    /// Radiance's `data_interp`: linear in each axis; beyond the ends it extrapolates up
+    /// to one division, then tapers off harmonically to zero. `base` is the offset of the
+    /// sub-array for axis `d`, `coef` the weight accumulated so far.
+    fn interp(&self, d: usize, base: usize, pt: &[f64], coef: f64, out: Option<&mut [f64]>) -> f64 {
+        const FTINY: f64 = 1e-6; // Radiance's FTINY for float builds (fvect.h)
+        if coef.abs() <= FTINY {
+            return 0.0;
+        }
+        let Some(ax) = self.axes.get(d) else {
+            return 0.0;
+        };
+        let p = pt.get(d).copied().unwrap_or(0.0);
+        let stride: usize = self.axes[d + 1..].iter().map(|a| a.n).product();
+        let last = ax.n as isize - 2;
+        let (i, x) = match &ax.points {
+            None => {
+                let x = (p - ax.org) / ax.siz * (ax.n as f64 - 1.0);
+                // C's (int) truncation, then clamping to the last division.
+                let i = if x.is_nan() {
+                    0
+                } else {
+                    (x as isize).clamp(0, last)
+                };
+                (i, x)
+            }
+            Some(pts) => {
+                // Radiance's bisection (works for either direction of the axis).
+                let (mut lower, mut upper) = if ax.siz > 0.0 { (0, ax.n) } else { (ax.n, 0) };
+                let mut i;
+                loop {
+                    i = (lower + upper) >> 1;
+                    if p >= pts[i.min(ax.n - 1)] {
+                        lower = i;
+                    } else {
+                        upper = i;
+                    }
+                    if i == (lower + upper) >> 1 {
+                        break;
+                    }
+                }
+                let i = (i as isize).min(last).max(0);
+                let (a, b) = (pts[i as usize], pts[i as usize + 1]);
+                (i, i as f64 + (p - a) / (b - a))
+            }
+        };
+        let fi = i as f64;
+        let (mut c0, mut c1) = if x > fi + 2.0 {
+            let c0 = 1.0 / (fi - 1.0 - x);
+            (c0, -2.0 * c0)
+        } else if x < fi - 1.0 {
+            let c1 = 1.0 / (x - fi);
+            (-2.0 * c1, c1)
+        } else {
+            (fi + 1.0 - x, x - fi)
+        };
+        c0 *= coef;
+        c1 *= coef;
+        let i = i as usize;
+        let at0 = base + i * stride;
+        let at1 = at0 + stride;
+        let remaining = self.axes.len() - d;
+        if remaining == 2 {
+            if let Some(out) = out {
+                for (k, o) in out.iter_mut().enumerate() {
+                    let y0 = self.values.get(at0 + k).copied().unwrap_or(0.0);
+                    let y1 = self.values.get(at1 + k).copied().unwrap_or(0.0);
+                    *o += c0 * y0 + c1 * y1;
+                }
+                return 0.0;
+            }
+        }
+        if remaining > 1 {
+            match out {
+                Some(out) => {
+                    self.interp(d + 1, at0, pt, c0, Some(&mut *out));
+                    self.interp(d + 1, at1, pt, c1, Some(out));
+                    0.0
+                }
+                None => {
+                    self.interp(d + 1, at0, pt, c0, None) + self.interp(d + 1, at1, pt, c1, None)
+                }
+            }
+        } else {
+            let y0 = self.values.get(at0).copied().unwrap_or(0.0);
+            let y1 = self.values.get(at1).copied().unwrap_or(0.0);
+            c0 * y0 + c1 * y1
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -183,5 +406,56 @@ mod tests {
             assert!(r.is_err(), "prefix {i} should be incomplete");
         }
         assert!(SpecData::parse(text, "c.dat").is_ok());
+    }
+
+    #[test]
+    fn n_dimensional_interpolation() {
+        // 2 x 3: axis 1 at 0 and 1, axis 2 (fastest) at 400, 500, 600.
+        let d = DataArray::parse("2\n0 1 2\n400 600 3\n1 2 3\n10 20 30\n", "d.dat").unwrap();
+        assert_eq!(d.dims(), 2);
+        assert_eq!(d.value(&[0.0, 400.0]), 1.0);
+        assert!((d.value(&[0.5, 450.0]) - 0.5 * (1.5 + 15.0)).abs() < 1e-12);
+        assert_eq!(d.vector(&[0.25]), vec![3.25, 6.5, 9.75]);
+        // One division beyond the end: linear extrapolation; further: harmonic taper.
+        assert!((d.value(&[2.0, 400.0]) - 19.0).abs() < 1e-12);
+        let far = d.value(&[10.0, 400.0]);
+        assert!(
+            (far - (1.0 / (0.0 - 1.0 - 10.0) * 1.0 + -2.0 / (0.0 - 1.0 - 10.0) * 10.0)).abs()
+                < 1e-12
+        );
+        // Irregular axes, increasing and decreasing.
+        let d = DataArray::parse("1\n0 0 3 1 2 4\n10 20 40\n", "i.dat").unwrap();
+        assert!((d.value(&[3.0]) - 30.0).abs() < 1e-12);
+        let d = DataArray::parse("1\n0 0 3 4 2 1\n40 20 10\n", "i.dat").unwrap();
+        assert!(
+            (d.value(&[3.0]) - 30.0).abs() < 1e-12,
+            "{}",
+            d.value(&[3.0])
+        );
+    }
+
+    #[test]
+    fn data_array_errors_and_truncation() {
+        let e = DataArray::parse("7\n", "d.dat").unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "d.dat:1: expected 1 to 5 dimensions, found 7"
+        );
+        let e = DataArray::parse("2\n0 1 2\n0 1 2\n1 2 3\n", "d.dat").unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "d.dat:5: unexpected end of data file; expected value 4 of 4"
+        );
+        let e = DataArray::parse("2\n0 1 99999\n0 1 99999\n1\n", "d.dat").unwrap_err();
+        assert!(
+            e.to_string()
+                .starts_with("d.dat:2: axis 1: expected a point count"),
+            "{e}"
+        );
+        let text = "2 # dims\n0 1 2\n0 0 3 400 500 600\n1 2 3\n4 5 6\n";
+        for i in 0..text.len() - 1 {
+            assert!(DataArray::parse(&text[..i], "d.dat").is_err(), "prefix {i}");
+        }
+        assert!(DataArray::parse(text, "d.dat").is_ok());
     }
 }

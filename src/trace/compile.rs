@@ -12,6 +12,12 @@
 //!   negated radii; a cone with equal radii is a cylinder.
 //! - `source` primitives become [`DistantSource`]s (see [`super::sources`]).
 //!
+//! - Function-file patterns (`brightfunc`, `colorfunc`, `specfunc`, `specdata`; the `.cal`
+//!   evaluator of [`crate::cal`]): on distant glows (skies) evaluated per escaping ray; on
+//!   surfaces per hit (the material is rebuilt with the pattern colour there,
+//!   `Renderable::material_at`), or once when their value does not depend on the ray
+//!   (then they act like the constant spectral patterns below); on `light` sources only
+//!   when constant.
 //! - Constant spectral patterns (`spectrum`, `specfile`, Radiance 6) anywhere between a
 //!   surface or source and its material, or modifying the material, multiply the material's
 //!   colour ([`crate::material::spectrum`]): spectral reflectance of walls, spectral
@@ -19,12 +25,16 @@
 //!
 //! Refused with `Error::unsupported` at the object's `file:line` (so nothing is silently
 //! rendered wrong): `instance`, `mesh` and other surface types; other patterns, textures and
-//! mixtures on surfaces (`specdata`, `specpict`, which need `.cal` evaluation, included); materials other than plastic/metal/trans/glass/mirror/glow (e.g.
-//! BSDF, `spotlight`); *local* direct sources (`light`, `illum`, `glow` with maxrad > 0 on
-//! surfaces: no next-event estimation to surfaces yet); `mirror`/`illum` alternate
-//! materials; patterns on distant sources other than the two sky functions above.
+//! mixtures on surfaces (`specpict` and other picture or data patterns, textures, `-i`
+//! transform arrays on function-file patterns); materials other than
+//! plastic/metal/trans/glass/mirror/glow (e.g. BSDF, `spotlight`); *local* direct sources
+//! (`light`, `illum`, `glow` with maxrad > 0 on surfaces: no next-event estimation to
+//! surfaces yet); `mirror`/`illum` alternate materials; on distant sources, patterns other
+//! than the sky functions, `specpict` and the function-file patterns above, and
+//! ray-dependent patterns on `light` (sun) materials.
 
 use super::sources::{DistantKind, DistantSource, SkyPattern, Sources};
+use crate::cal::pattern::{CalPatterns, PatternedMaterial, ScenePatterns, is_cal_pattern};
 use crate::error::{Error, Result};
 use crate::geometry::{Bvh, Object as GeoObject, Shape, Vec3};
 use crate::material::spectrum::Sampled;
@@ -49,6 +59,9 @@ pub struct Renderable {
     /// Per BVH object id.
     pub(super) surfaces: Vec<SurfaceInfo>,
     pub(super) materials: Vec<Material>,
+    /// Per material: `Some` when ray-dependent `.cal` patterns modify it (rebuilt per hit,
+    /// see [`Renderable::material_at`]).
+    pub(super) patterned: Vec<Option<std::sync::Arc<PatternedMaterial>>>,
     pub(super) sources: Sources,
     pub(super) ncomp: usize,
 }
@@ -73,17 +86,36 @@ fn unsupported(o: &Object, what: impl Into<String>) -> Error {
     Error::unsupported(o.loc.clone(), what)
 }
 
-/// Whether object `k` is a constant spectral pattern ([`spectral_color`] handles it).
-fn is_spectral(scene: &Scene, k: usize) -> bool {
+/// Whether object `k` is a constant spectral pattern ([`spectral_color`] handles it):
+/// `spectrum`, `specfile`, or a function-file pattern that does not depend on the ray.
+fn is_spectral(cal: &ScenePatterns, scene: &Scene, k: usize) -> bool {
     matches!(
         scene.objects[k].kind,
         Primitive::Spectrum { .. } | Primitive::SpecFile { .. }
-    )
+    ) || (!native_sky(&scene.objects[k]) && cal.is_constant(k))
+}
+
+/// The gensky and gendaylit sky functions without a transform, evaluated natively (their
+/// `.cal` files need not be installed); with a transform they go to the `.cal` evaluator.
+fn native_sky(o: &Object) -> bool {
+    match &o.kind {
+        Primitive::BrightFunc {
+            function,
+            file,
+            transform,
+            ..
+        } if transform.is_empty() => matches!(
+            (basename(file), function.as_str()),
+            ("skybright.cal", "skybr") | ("perezlum.cal", "skybright")
+        ),
+        _ => false,
+    }
 }
 
 /// The product of the constant spectral patterns among `patterns` in the run's channels
 /// (`None` when there are none).
 fn spectral_color(
+    cal: &ScenePatterns,
     scene: &Scene,
     patterns: impl IntoIterator<Item = usize>,
     ch: &Channels,
@@ -107,6 +139,14 @@ fn spectral_color(
                     ));
                 }
             },
+            _ if is_cal_pattern(o) && !native_sky(o) && cal.is_constant(k) => {
+                let c = cal.constant_color(k)?;
+                out = Some(match out {
+                    Some(p) => p * c,
+                    None => c,
+                });
+                continue;
+            }
             _ => continue,
         };
         if !s.values.iter().all(|v| v.is_finite()) {
@@ -126,12 +166,35 @@ fn spectral_color(
 
 /// The sky pattern of a distant glow from the patterns modifying its material (spectral
 /// patterns are taken apart by [`spectral_color`]).
-fn sky_pattern(scene: &Scene, src: &Object, material: usize, ch: &Channels) -> Result<SkyPattern> {
+fn sky_pattern(
+    cal: &ScenePatterns,
+    scene: &Scene,
+    src: &Object,
+    material: usize,
+    ch: &Channels,
+) -> Result<SkyPattern> {
     let pats: Vec<usize> = scene
         .patterns_of(material)
         .into_iter()
-        .filter(|&k| !is_spectral(scene, k))
+        .filter(|&k| !is_spectral(cal, scene, k))
         .collect();
+    // Function-file patterns other than the two sky functions evaluated natively go to the
+    // `.cal` evaluator, all of them together.
+    if !pats.is_empty()
+        && pats.iter().all(|&k| {
+            let o = &scene.objects[k];
+            is_cal_pattern(o) && !(pats.len() == 1 && native_sky(o))
+        })
+    {
+        let list = pats
+            .iter()
+            .map(|&k| cal.get(k))
+            .collect::<Result<Vec<_>>>()?;
+        return Ok(SkyPattern::Cal(std::sync::Arc::new(CalPatterns {
+            list,
+            ch: *ch,
+        })));
+    }
     match pats.as_slice() {
         [] => Ok(SkyPattern::Uniform),
         [p] => {
@@ -246,7 +309,9 @@ fn specpict(po: &Object, strings: &[String], reals: &[f64], ch: &Channels) -> Re
     )))
 }
 
+#[allow(clippy::too_many_arguments)]
 fn distant_source(
+    cal: &ScenePatterns,
     scene: &Scene,
     i: usize,
     o: &Object,
@@ -273,7 +338,7 @@ fn distant_source(
     let between: Vec<usize> = scene.modifier_chain(i).take_while(|&k| k != m).collect();
     if let Some(&p) = between
         .iter()
-        .find(|&&k| scene.objects[k].class() != Class::Material && !is_spectral(scene, k))
+        .find(|&&k| scene.objects[k].class() != Class::Material && !is_spectral(cal, scene, k))
     {
         let po = &scene.objects[p];
         return Err(unsupported(
@@ -285,7 +350,12 @@ fn distant_source(
         ));
     }
     let mo = &scene.objects[m];
-    let pcol = spectral_color(scene, between.into_iter().chain(scene.patterns_of(m)), ch)?;
+    let pcol = spectral_color(
+        cal,
+        scene,
+        between.into_iter().chain(scene.patterns_of(m)),
+        ch,
+    )?;
     let mat = Material::build_patterned(&mo.kind, ch, opts, &mo.loc, &mo.id, pcol)?;
     let Some(Material::Emitter(Emitter { color, kind })) = mat else {
         // Radiance: a source with a non-emitting material is no light source; rays that
@@ -300,7 +370,7 @@ fn distant_source(
             if scene
                 .patterns_of(m)
                 .into_iter()
-                .any(|k| !is_spectral(scene, k))
+                .any(|k| !is_spectral(cal, scene, k))
             {
                 return Err(unsupported(
                     mo,
@@ -321,7 +391,7 @@ fn distant_source(
     let pattern = if kind == DistantKind::Light {
         SkyPattern::Uniform
     } else {
-        sky_pattern(scene, o, m, ch)?
+        sky_pattern(cal, scene, o, m, ch)?
     };
     Ok(Some(DistantSource::new(
         o.id.clone(),
@@ -412,11 +482,15 @@ impl Renderable {
         // (Scene index of a material, spectral patterns between surface and material) ->
         // index in `materials`.
         let mut mat_index: std::collections::HashMap<(usize, Vec<usize>), u32> = Default::default();
+        let mut patterned: Vec<Option<std::sync::Arc<PatternedMaterial>>> = Vec::new();
         let mut sources = Sources::default();
+        let cal = ScenePatterns::new(scene, ch);
         for (i, o) in scene.objects.iter().enumerate() {
             match &o.kind {
                 Primitive::Source { direction, angle } => {
-                    if let Some(s) = distant_source(scene, i, o, *direction, *angle, ch, opts)? {
+                    if let Some(s) =
+                        distant_source(&cal, scene, i, o, *direction, *angle, ch, opts)?
+                    {
                         sources.list.push(s);
                     }
                     continue;
@@ -438,13 +512,18 @@ impl Renderable {
                 continue; // void: transparent to every ray (see the module documentation)
             };
             let between: Vec<usize> = scene.modifier_chain(i).take_while(|&k| k != m).collect();
-            if let Some(p) = between
-                .iter()
-                .copied()
-                .chain(scene.patterns_of(m))
-                .find(|&k| !is_spectral(scene, k))
-            {
-                let po = &scene.objects[p];
+            // Ray-dependent function-file patterns are evaluated per hit; any other
+            // non-constant pattern or texture is refused.
+            let mut varying = Vec::new();
+            for k in between.iter().copied().chain(scene.patterns_of(m)) {
+                if is_spectral(&cal, scene, k) {
+                    continue;
+                }
+                let po = &scene.objects[k];
+                if is_cal_pattern(po) && !native_sky(po) {
+                    varying.push(cal.get(k)?);
+                    continue;
+                }
                 return Err(unsupported(
                     po,
                     format!(
@@ -461,6 +540,7 @@ impl Renderable {
                 None => {
                     let mo = &scene.objects[m];
                     let pcol = spectral_color(
+                        &cal,
                         scene,
                         key.1.iter().copied().chain(scene.patterns_of(m)),
                         ch,
@@ -499,6 +579,18 @@ impl Renderable {
                         _ => {}
                     }
                     let k = materials.len() as u32;
+                    patterned.push((!varying.is_empty()).then(|| {
+                        std::sync::Arc::new(PatternedMaterial::new(
+                            mo,
+                            pcol,
+                            CalPatterns {
+                                list: varying,
+                                ch: *ch,
+                            },
+                            opts,
+                            mat.clone(),
+                        ))
+                    }));
                     materials.push(mat);
                     mat_index.insert(key, k);
                     k
@@ -535,9 +627,30 @@ impl Renderable {
             bvh,
             surfaces,
             materials,
+            patterned,
             sources,
             ncomp: ch.ncomp.max(1),
         })
+    }
+
+    /// The material of index `k` at a hit (`dir` the ray direction, `h` the hit): the
+    /// compiled material, or for ray-dependent `.cal` patterns, the material with the
+    /// pattern colour at this hit.
+    pub(super) fn material_at(
+        &self,
+        k: u32,
+        dir: Vec3,
+        h: &crate::geometry::Hit,
+    ) -> std::borrow::Cow<'_, Material> {
+        match self.patterned.get(k as usize).and_then(|p| p.as_deref()) {
+            Some(p) => std::borrow::Cow::Owned(p.at(
+                dir.to_array(),
+                h.normal.to_array(),
+                h.point.to_array(),
+                h.t,
+            )),
+            None => std::borrow::Cow::Borrowed(&self.materials[k as usize]),
+        }
     }
 
     /// The distant sources (sun, sky, ground) in scene order.

@@ -280,7 +280,8 @@ impl Renderable {
                 return Some((t, events));
             };
             let info = self.surfaces[h.object as usize];
-            let m = &self.materials[info.material as usize];
+            let m_at = self.material_at(info.material, dir, &h);
+            let m = &*m_at;
             let s = Surface {
                 normal: h.normal.to_array(),
                 flat: info.flat,
@@ -357,7 +358,8 @@ impl Renderable {
                 return out;
             };
             let info = self.surfaces[h.object as usize];
-            let m = &self.materials[info.material as usize];
+            let m_at = self.material_at(info.material, ray.dir, &h);
+            let m = &*m_at;
             let wo = -ray.dir;
             let s = Surface {
                 normal: h.normal.to_array(),

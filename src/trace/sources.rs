@@ -16,11 +16,13 @@
 //!   installed RADIANCE 6.0a: a 180-degree glow of radiance 1 defined before a 360-degree glow
 //!   of radiance 5, both towards +Z: rtrace reads 1 looking up and 5 looking down. (Older
 //!   source.c versions kept the last glow; 6.0a keeps the first.)
-//! - A glow's radiance is modulated by its patterns: we support exactly the sky functions of
-//!   `gensky` (`brightfunc skyfunc 2 skybr skybright.cal 0 N A1..`) and `gendaylit`
-//!   (`brightfunc skyfunc 2 skybright perezlum.cal 0 10 A1..A10`), evaluated natively
+//! - A glow's radiance is modulated by its patterns: the sky functions of `gensky`
+//!   (`brightfunc skyfunc 2 skybr skybright.cal 0 N A1..`) and `gendaylit`
+//!   (`brightfunc skyfunc 2 skybright perezlum.cal 0 10 A1..A10`) are evaluated natively
 //!   ([`crate::sky::cie::skybright`], [`crate::sky::perez::perezlum`]) at the escaping ray's
-//!   direction (`Dx Dy Dz`).
+//!   direction (`Dx Dy Dz`); genssky's `specpict` sky by [`crate::sky::specpict`]; any other
+//!   function-file pattern (and those two with a transform) by the `.cal` evaluator
+//!   ([`crate::cal::pattern`]).
 
 use crate::geometry::Vec3;
 use crate::material::Color;
@@ -36,6 +38,9 @@ pub enum SkyPattern {
     PerezLum([f64; 10]),
     /// genssky's `specpict` sky picture (spectral; see [`crate::sky::specpict`]).
     SpecPict(std::sync::Arc<crate::sky::specpict::SpecPictSky>),
+    /// Other function-file patterns (`.cal` brightfunc, colorfunc, specfunc, specdata),
+    /// evaluated per direction by [`crate::cal`].
+    Cal(std::sync::Arc<crate::cal::pattern::CalPatterns>),
 }
 
 impl SkyPattern {
@@ -46,7 +51,7 @@ impl SkyPattern {
             SkyPattern::SkyBright(a) => crate::sky::cie::skybright(dir.to_array(), a),
             SkyPattern::PerezLum(a) => crate::sky::perez::perezlum(dir.to_array(), a),
             // Spectral: applied per channel by `DistantSource::radiance`.
-            SkyPattern::SpecPict(_) => 1.0,
+            SkyPattern::SpecPict(_) | SkyPattern::Cal(_) => 1.0,
         }
     }
 }
@@ -111,6 +116,9 @@ impl DistantSource {
         match &self.pattern {
             SkyPattern::Uniform => self.color,
             SkyPattern::SpecPict(p) => self.color * p.lookup(dir.to_array()),
+            SkyPattern::Cal(p) => {
+                self.color * p.eval(&crate::cal::pattern::RayVars::escaping(dir.to_array()))
+            }
             _ => self.color.scale(self.pattern.factor(dir)),
         }
     }

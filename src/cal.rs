@@ -1,1 +1,0 @@
-//! Radiance `.cal` expression language (issue 8; placeholder, filled in on its branch).
