@@ -4,13 +4,9 @@
 //! Patterns are evaluated per escaping ray on skies and per hit on surfaces.
 //! The scenes are direct views and direct sunlight (`-ab 0`), so both tracers are
 //! deterministic: agreement is to the printed digits (2e-3 relative allowed, for float
-//! rounding), except
-//! - RGB runs of a spectral pattern: 5e-3 on the floors (measured 0.31 % and 0.37 %). The spectrum ->
-//!   RGB step is the one `specfile` uses (`material::spectrum::Sampled::to_channels`) and
-//!   differs from Radiance's `convertscolorcol` + `scolor2rgb` by up to 3.5 % on blue for
-//!   the sky's coarse, reddish 6-sample spectra (rtrace gives identical RGB for a `specfile`
-//!   holding the same spectrum, and so do we, so the difference is not the pattern's); the
-//!   sky is therefore compared in spectral runs only, where both agree to 4e-7;
+//! rounding, in RGB runs too since the spectrum -> RGB step uses Radiance's cumulative
+//! observer tables (`scolor2rgb`; with the 5 nm CIE table the sky's coarse 6-sample spectra
+//! were up to 3.5 % off on blue)), except
 //! - `specfunc`: Radiance jitters each wavelength sample with `frandom()` (up to 2 % per
 //!   ray here), we sample at the step centres; the mean of 400 rtrace rays is compared
 //!   within 1 % (its standard error is about 0.1 %).
@@ -104,8 +100,7 @@ fn specdata_sky_agrees_with_rtrace_per_band() {
          skyspec glow skyglow 0 0 4 1 1 1 0\nskyglow source sky 0 0 4 0 0 1 180\n\
          void glow groundglow 0 0 4 .2 .2 .2 0\ngroundglow source ground 0 0 4 0 0 -1 180\n",
     );
-    // Spectral runs only: see the module documentation for RGB runs.
-    for cs in [&["-cs", "8"][..], &["-cs", "20"]] {
+    for cs in [&["-cs", "8"][..], &["-cs", "20"], &[]] {
         let theirs = rtrace(t.path(), cs, VIEW_RAYS);
         let ours = rdc(t.path(), cs, VIEW_RAYS);
         compare(&format!("specdata sky {cs:?}"), &ours, &theirs, 2e-3);
@@ -135,7 +130,7 @@ fn brightfunc_colorfunc_and_surface_specdata_agree_with_rtrace() {
     for (cs, tol) in [
         (&["-cs", "8"][..], 2e-3),
         (&["-cs", "20"], 2e-3),
-        (&[], 5e-3),
+        (&[], 2e-3),
     ] {
         let theirs = rtrace(t.path(), cs, rays);
         let ours = rdc(t.path(), cs, rays);
@@ -170,7 +165,7 @@ fn ray_dependent_surface_patterns_agree_with_rtrace() {
     for (cs, tol) in [
         (&["-cs", "8"][..], 2e-3),
         (&["-cs", "20"], 2e-3),
-        (&[], 5e-3),
+        (&[], 2e-3),
     ] {
         let theirs = rtrace(t.path(), cs, rays);
         let ours = rdc(t.path(), cs, rays);

@@ -14,8 +14,8 @@
 //!   intervals, **zero** where the spectrum does not reach (no extrapolation, no
 //!   normalisation);
 //! - RGB runs: the spectrum is first rebinned to bands over the default range (as many as
-//!   its own sampling density gives, at most 24), then taken to CIE XYZ with unit-area
-//!   colour-matching functions (equal-energy white = X = Y = Z = 1, `scolor2cie`) and to
+//!   its own sampling density gives, at most 24), then taken to CIE XYZ with Radiance's
+//!   cumulative observer tables ([`spec_dot`], as `scolor2cie` does) and to
 //!   Radiance RGB with the standard primaries, clipping negative channels towards grey
 //!   (`cie_rgb`, `clipgamut` with the lower bound only).
 //!
@@ -121,7 +121,10 @@ impl Sampled {
             return [0.0; 3];
         };
         let v = rebin(&self.values, a, b, &bands);
-        let xyz = band_xyz(&v, &bands);
+        // scolor2rgb: XYZ from Radiance's cumulative observer tables (`spec_dot`), not the
+        // 5 nm CIE table, so coarse or steep spectra give rtrace's RGB (up to 3.5 % apart
+        // on blue otherwise).
+        let xyz = [Curve::X, Curve::Y, Curve::Z].map(|c| spec_dot(&v, &bands, c));
         xyz_to_rgb_clipped(xyz)
     }
 }

@@ -49,4 +49,4 @@ pub use sources::{DistantKind, DistantSource, SkyPattern, Sources};
 /// Revision of the path tracer's sampling: change it whenever a given seed starts giving
 /// other numbers (another random stream, a new estimator), so caches of traced results
 /// (rcalib's coefficient cache) do not mix runs of two tracers.
-pub const REVISION: &str = "2026-11-21: glass branching, re-weighting terms";
+pub const REVISION: &str = "2026-11-21b: spectra to RGB by Radiance's observer tables";
