@@ -72,27 +72,45 @@ fn tokens(text: &str) -> Vec<(&str, usize)> {
     words
 }
 
+/// The numbers of a data file in order, each with its line, for the two parsers below.
+struct Numbers<'t> {
+    words: std::vec::IntoIter<(&'t str, usize)>,
+    name: &'t str,
+    end_line: usize,
+}
+
+impl<'t> Numbers<'t> {
+    fn new(text: &'t str, name: &'t str) -> Self {
+        Numbers {
+            words: tokens(text).into_iter(),
+            name,
+            end_line: text.matches('\n').count() + 1,
+        }
+    }
+
+    /// The next number and its line, or an error saying `what` was expected.
+    fn next(&mut self, what: &str) -> Result<(f64, usize)> {
+        match self.words.next() {
+            None => Err(Error::parse(
+                Location::line(self.name, self.end_line),
+                format!("unexpected end of data file; expected {what}"),
+            )),
+            Some((w, line)) => match super::parse::parse_real(w) {
+                Some(v) => Ok((v, line)),
+                None => Err(Error::parse(
+                    Location::line(self.name, line),
+                    format!("expected {what} (a number), found '{w}'"),
+                )),
+            },
+        }
+    }
+}
+
 impl SpecData {
     /// Parse a one-dimensional data file; `name` is used in error locations.
     pub fn parse(text: &str, name: &str) -> Result<SpecData> {
-        let words = tokens(text);
-        let end_line = text.matches('\n').count() + 1;
-        let mut it = words.into_iter();
-        let mut next = |what: &str| -> Result<(f64, usize)> {
-            match it.next() {
-                None => Err(Error::parse(
-                    Location::line(name, end_line),
-                    format!("unexpected end of data file; expected {what}"),
-                )),
-                Some((w, line)) => match super::parse::parse_real(w) {
-                    Some(v) => Ok((v, line)),
-                    None => Err(Error::parse(
-                        Location::line(name, line),
-                        format!("expected {what} (a number), found '{w}'"),
-                    )),
-                },
-            }
-        };
+        let mut numbers = Numbers::new(text, name);
+        let mut next = |what: &str| numbers.next(what);
         let (nd, line) = next("the number of dimensions")?;
         if nd != 1.0 {
             return Err(Error::parse(
@@ -167,24 +185,8 @@ pub struct DataArray {
 impl DataArray {
     /// Parse a data file; `name` is used in error locations.
     pub fn parse(text: &str, name: &str) -> Result<DataArray> {
-        let words = tokens(text);
-        let end_line = text.matches('\n').count() + 1;
-        let mut it = words.into_iter();
-        let mut next = |what: &str| -> Result<(f64, usize)> {
-            match it.next() {
-                None => Err(Error::parse(
-                    Location::line(name, end_line),
-                    format!("unexpected end of data file; expected {what}"),
-                )),
-                Some((w, line)) => match super::parse::parse_real(w) {
-                    Some(v) => Ok((v, line)),
-                    None => Err(Error::parse(
-                        Location::line(name, line),
-                        format!("expected {what} (a number), found '{w}'"),
-                    )),
-                },
-            }
-        };
+        let mut numbers = Numbers::new(text, name);
+        let mut next = |what: &str| numbers.next(what);
         let (nd, line) = next("the number of dimensions")?;
         if nd.fract() != 0.0 || !(1.0..=MAX_DIMS as f64).contains(&nd) {
             return Err(Error::parse(
