@@ -546,6 +546,12 @@ pub struct Outcome {
     pub rmse_after: f64,
     /// The truth model simulated at the model's settings against the readings.
     pub rmse_noise: f64,
+    /// Apply fidelity: RMSE_rel (percent) of what the fitted effects predicted
+    /// ([`Model::predict`]) against the re-simulation of the applied model.
+    pub rmse_fit_vs_apply: f64,
+    /// The readings the applied model misses most (sensor, step, sun altitude and
+    /// azimuth, measured, applied, fitted, truth): where the remaining error comes from.
+    pub worst: Vec<String>,
     pub seconds: f64,
 }
 
@@ -583,7 +589,17 @@ pub fn evaluate(case: &Case, opts: &Options, sigma_sensor: f64) -> Result<Outcom
         let pairs: Vec<(f64, f64)> = sim.iter().zip(&m.obs).map(|(y, o)| (*y, o.value)).collect();
         super::stats::Stats::of(&pairs).rmse_rel
     };
-    let rmse_after = rmse(&after_model, &after_model.predict(&faults));
+    let after_sim = after_model.predict(&faults);
+    let rmse_after = rmse(&after_model, &after_sim);
+    let fitted_sim = m.predict(&effects);
+    let rmse_fit_vs_apply = {
+        let pairs: Vec<(f64, f64)> = fitted_sim
+            .iter()
+            .zip(&after_sim)
+            .map(|(f, a)| (*f, *a))
+            .collect();
+        super::stats::Stats::of(&pairs).rmse_rel
+    };
     let truth = case.model(&case.truth_text, opts)?;
     let hidden_faults: Vec<Effect> = case
         .hidden
@@ -591,7 +607,30 @@ pub fn evaluate(case: &Case, opts: &Options, sigma_sensor: f64) -> Result<Outcom
         .filter(|e| matches!(e, Effect::SensorFault { .. }))
         .cloned()
         .collect();
-    let rmse_noise = rmse(&truth, &truth.predict(&hidden_faults));
+    let truth_sim = truth.predict(&hidden_faults);
+    let rmse_noise = rmse(&truth, &truth_sim);
+    let mut order: Vec<usize> = (0..after_sim.len()).collect();
+    let err = |i: usize| (after_sim[i] / m.obs[i].value.max(1.0) - 1.0).abs();
+    order.sort_by(|a, b| err(*b).total_cmp(&err(*a)));
+    let worst: Vec<String> = order
+        .iter()
+        .take(6)
+        .map(|&i| {
+            let o = &m.obs[i];
+            let sk = &m.skies[o.step];
+            format!(
+                "{} t{} sun {:.0}/{:.0} meas {:.0} applied {:.0} fitted {:.0} truth {:.0}",
+                case.sensors[o.sensor].id,
+                o.step,
+                sk.sun_altitude_deg,
+                sk.sun_azimuth_deg,
+                o.value,
+                after_sim[i],
+                fitted_sim[i],
+                truth_sim[i]
+            )
+        })
+        .collect();
     let hidden: Vec<String> = case.hidden.iter().map(|e| e.family().to_string()).collect();
     let selected: Vec<String> = effects.iter().map(|e| e.family().to_string()).collect();
     let ranking: Vec<String> = ex.ranking.iter().map(|c| c.family.clone()).collect();
@@ -614,6 +653,8 @@ pub fn evaluate(case: &Case, opts: &Options, sigma_sensor: f64) -> Result<Outcom
         rmse_before: ex.base.rmse_rel,
         rmse_after,
         rmse_noise,
+        rmse_fit_vs_apply,
+        worst,
         seconds: t0.elapsed().as_secs_f64(),
     })
 }
