@@ -94,6 +94,13 @@ fn hit_rate_table() {
                     o.rmse_fit_vs_apply,
                     o.seconds
                 );
+                if std::env::var("RCALIB_ORACLE").is_ok() && !o.hidden.is_empty() {
+                    let r = oracle_rmse(&case, &opts, 1.01).unwrap();
+                    println!(
+                        "|   oracle: hidden effects x 1.01 applied: RMSE_rel {r:.1} ({:.2} x noise-only)",
+                        r / o.rmse_noise
+                    );
+                }
                 if std::env::var("RCALIB_WORST").is_ok() {
                     for w in &o.worst {
                         println!("|   worst: {w}");
@@ -187,4 +194,63 @@ fn fidelity_table() {
             }
         }
     }
+}
+
+/// Timings of `explain` on 20 sensors x 50 steps (the office with a 4 x 5 sensor grid,
+/// sunny site, hidden obstruction): building the model with its reflectance sensitivities
+/// from an empty cache (tracing), again from the cache, and the explain fits.
+#[test]
+#[ignore]
+fn explain_timing_20_sensors_50_steps() {
+    use rdaylight::calib::effects::Effect;
+    use rdaylight::formats::sensors::{Ray, Sensor};
+    let (text, _) = room(RoomKind::Office);
+    let mut sensors = Vec::new();
+    for y in [1.0, 2.5, 4.0, 5.5, 7.0] {
+        for x in [1.0, 2.3, 3.7, 5.0] {
+            sensors.push(Sensor {
+                id: format!("s{:02}", sensors.len() + 1),
+                ray: Ray::new([x, y, 0.8], [0.0, 0.0, 1.0]),
+            });
+        }
+    }
+    let cache = tempfile::tempdir().unwrap();
+    let case = generate_with_sensors(
+        "timing",
+        &text,
+        sensors,
+        sunny_weather(),
+        vec![Effect::Obstruction {
+            azimuth: 200.0,
+            half_width: 45.0,
+            altitude: 30.0,
+        }],
+        50,
+        1,
+        &Settings::model(),
+        Some(cache.path().to_path_buf()),
+    )
+    .unwrap();
+    let opts = Options {
+        cache: Some(cache.path().to_path_buf()),
+        reflectance: true,
+        ..Options::default()
+    };
+    let t0 = std::time::Instant::now();
+    let m = case.model(&case.model_text, &opts).unwrap();
+    let cold = t0.elapsed().as_secs_f64();
+    let t1 = std::time::Instant::now();
+    let m2 = case.model(&case.model_text, &opts).unwrap();
+    let warm = t1.elapsed().as_secs_f64();
+    let t2 = std::time::Instant::now();
+    let ex = rdaylight::calib::explain::explain(&m2, &[], DEFAULT_SENSOR_SIGMA);
+    let fit = t2.elapsed().as_secs_f64();
+    println!(
+        "timing: {} sensors x {} steps ({} readings): model build {cold:.1} s from an empty \
+         cache, {warm:.1} s cached; explain {fit:.1} s; selected {:?}",
+        m.nsens(),
+        m.nsteps(),
+        m.obs.len(),
+        ex.specs
+    );
 }

@@ -350,6 +350,33 @@ pub fn generate(
     cache: Option<std::path::PathBuf>,
 ) -> Result<Case> {
     let (model_text, sensors) = room(kind);
+    generate_with_sensors(
+        name,
+        &model_text,
+        sensors,
+        weather,
+        hidden,
+        nsteps,
+        seed,
+        truth,
+        cache,
+    )
+}
+
+/// [`generate`] for a given model text and sensors (e.g. a denser grid than the room's).
+#[allow(clippy::too_many_arguments)]
+pub fn generate_with_sensors(
+    name: &str,
+    model_text: &str,
+    sensors: Vec<Sensor>,
+    weather: Weather,
+    hidden: Vec<Effect>,
+    nsteps: usize,
+    seed: u64,
+    truth: &Settings,
+    cache: Option<std::path::PathBuf>,
+) -> Result<Case> {
+    let model_text = model_text.to_string();
     let model = scene_of(&model_text)?;
     let room = room_of(&model, &sensors);
     let geometric: Vec<Effect> = hidden
@@ -561,6 +588,35 @@ impl Outcome {
     pub fn passes(&self, factor: f64) -> bool {
         self.hit && self.rmse_after <= factor * self.rmse_noise
     }
+}
+
+/// The floor any fit meets: RMSE_rel (percent) after applying the hidden effects themselves
+/// with their main parameter times `factor` (e.g. 1.01), re-simulated like an applied fit.
+/// Two rdc runs of nearly the same scene disagree by their Monte Carlo noise where paths
+/// diverge; the noise-only error shares the readings' own simulation and has none.
+pub fn oracle_rmse(case: &Case, opts: &Options, factor: f64) -> Result<f64> {
+    let effects: Vec<Effect> = case
+        .hidden
+        .iter()
+        .map(|e| e.with_primary(e.primary().1 * factor))
+        .collect();
+    let geometric: Vec<Effect> = effects
+        .iter()
+        .filter(|e| !matches!(e, Effect::SensorFault { .. }))
+        .cloned()
+        .collect();
+    let faults: Vec<Effect> = effects
+        .iter()
+        .filter(|e| matches!(e, Effect::SensorFault { .. }))
+        .cloned()
+        .collect();
+    let model = case.model_scene()?;
+    let room = room_of(&model, &case.sensors);
+    let text = super::apply::apply(&model, &room, &case.sensors, &geometric, "oracle")?;
+    let m = case.model(&text, opts)?;
+    let sim = m.predict(&faults);
+    let pairs: Vec<(f64, f64)> = sim.iter().zip(&m.obs).map(|(y, o)| (*y, o.value)).collect();
+    Ok(super::stats::Stats::of(&pairs).rmse_rel)
 }
 
 /// Run explain on a case, apply what it selects, re-simulate, compare with the noise-only

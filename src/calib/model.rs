@@ -46,6 +46,19 @@ pub struct Model {
     pub horizon: std::sync::OnceLock<effects::obstruction::Horizon>,
 }
 
+/// The light an exterior obstruction's facade sends towards the room in place of the sky
+/// it hides (see [`super::effects::obstruction`]): per patch the hidden share of the light
+/// entering the windows, per sensor and patch the hidden share of its direct view, and per
+/// step and patch the facade's luminance over the patch's.
+#[derive(Debug, Clone)]
+pub struct Fill {
+    pub ind: Vec<f64>,
+    /// `[s][p]`
+    pub dir: Vec<f64>,
+    /// `[t][p]`
+    pub ratio: Vec<f64>,
+}
+
 /// Multipliers the effects set (see [`super::effects`]); all 1 for the model as given.
 #[derive(Debug, Clone)]
 pub struct Weights {
@@ -63,6 +76,8 @@ pub struct Weights {
     pub sun_win_dir: Option<Vec<f64>>,
     /// Per sensor: direct light left by a local obstruction.
     pub local: Vec<f64>,
+    /// What an exterior obstruction sends back in place of the sky it hides.
+    pub fill: Option<Fill>,
     pub tau: f64,
     /// Per sensor: reading / true illuminance.
     pub cal: Vec<f64>,
@@ -171,6 +186,7 @@ impl Model {
             sun_win_ind: vec![1.0; nt],
             sun_win_dir: None,
             local: vec![1.0; ns],
+            fill: None,
             tau: 1.0,
             cal: vec![1.0; ns],
             refl: Vec::new(),
@@ -229,6 +245,11 @@ impl Model {
                     let wd = w.win_dir.as_ref().map_or(1.0, |v| v[s * np + p]);
                     ind += w.patch[p] * w.win_ind[p] * (tot - d);
                     dir += w.patch[p] * wd * d;
+                    if let Some(f) = &w.fill {
+                        let r = f.ratio[t * np + p];
+                        ind += w.patch[p] * f.ind[p] * r * (tot - d);
+                        dir += w.patch[p] * f.dir[s * np + p] * r * d;
+                    }
                 }
                 let mut si = c.sun_indirect[st];
                 for &(i, dk) in &w.refl {

@@ -7,15 +7,18 @@
 //! them; for each sensor's direct view of the sky, only the cells that sensor sees through
 //! a window (a deep sensor sees the low part of a patch only). A sun is hidden when it
 //! stands behind the sector (edges smoothed over half a degree so the fit sees a
-//! continuous profile). The obstruction is taken as black: a facade of reflectance 0.1-0.2
-//! sends back a few percent of the blocked sky's light, which the fitted altitude absorbs.
+//! continuous profile). In place of the sky it hides, the obstruction sends back the light
+//! of its facade as `rcalib apply` writes it (Lambertian, reflectance 0.1, lit by the sky,
+//! the ground and the sun on the room's side): a few percent of the hidden sky's light, but
+//! left out it biased the fitted altitude low and a glazing scale fitted with it high.
 //! Signature: deficits that depend on which part of the sky each sensor sees and on the
 //! sun's azimuth and altitude.
 
 use super::{Effect, golden, smooth_step};
 use crate::calib::fit::{Fitter, without};
-use crate::calib::model::{Model, Weights};
+use crate::calib::model::{Fill, Model, Weights};
 use crate::calib::room::dot;
+use crate::calib::simulate::LUX_RGB;
 use std::f64::consts::PI;
 
 /// Signed angle difference a - b wrapped to (-180, 180] degrees.
@@ -235,13 +238,19 @@ pub fn apply(e: &Effect, m: &Model, w: &mut Weights) {
         return;
     };
     let hz = m.horizon();
-    let (ns, np) = (m.nsens(), m.comps.npatch);
+    let (ns, np, nt) = (m.nsens(), m.comps.npatch, m.nsteps());
     let mut wd = w.win_dir.take().unwrap_or_else(|| vec![1.0; ns * np]);
+    let mut fill = Fill {
+        ind: vec![0.0; np],
+        dir: vec![0.0; ns * np],
+        ratio: vec![0.0; nt * np],
+    };
     for i in 1..np.min(hz.cells.len()) {
         let Some((fa, fz)) = hz.overlaps(i, azimuth, half_width, altitude) else {
             continue;
         };
         let f_ind = share(&hz.ind[i], &fa, &fz).unwrap_or(0.0);
+        fill.ind[i] = f_ind * w.win_ind[i];
         w.win_ind[i] *= 1.0 - f_ind;
         for s in 0..ns {
             let f = if hz.dir[s][i].is_empty() {
@@ -249,10 +258,45 @@ pub fn apply(e: &Effect, m: &Model, w: &mut Weights) {
             } else {
                 share(&hz.dir[s][i], &fa, &fz).unwrap_or(f_ind)
             };
+            fill.dir[s * np + i] = f * wd[s * np + i];
             wd[s * np + i] *= 1.0 - f;
         }
     }
     w.win_dir = Some(wd);
+    // The facade (reflectance `apply::OBSTRUCTION_REFLECTANCE`, Lambertian) faces the room:
+    // its luminance is rho E_f / pi with E_f the illuminance on a vertical plane facing
+    // back from the sector's centre, from the sky patches, the sky's ground patch (the
+    // lower quarter sphere, pi/2 of cosine-weighted solid angle) and the sun.
+    let az = azimuth.to_radians();
+    let n_f = [-az.sin(), -az.cos(), 0.0];
+    let rho = crate::calib::apply::OBSTRUCTION_REFLECTANCE;
+    let sun_omega = 2.0 * PI * (1.0 - (0.533f64.to_radians() / 2.0).cos());
+    for (t, sk) in m.skies.iter().enumerate() {
+        let lum = |p: usize| -> f64 {
+            (0..3)
+                .map(|c| sk.sky.get(p * 3 + c).copied().unwrap_or(0.0) * LUX_RGB[c])
+                .sum()
+        };
+        let mut e_f = lum(0) * PI / 2.0;
+        for p in 1..np {
+            let c = dot(m.patches.centre(p), n_f);
+            if c > 0.0 {
+                e_f += lum(p) * m.patches.solid_angle(p) * c;
+            }
+        }
+        if sk.sun_altitude_deg > 0.0 {
+            let white: f64 = LUX_RGB.iter().sum();
+            e_f += sk.sun_radiance * white * sun_omega * dot(sk.sun_dir, n_f).max(0.0);
+        }
+        let l_o = rho * e_f / PI;
+        for p in 1..np {
+            let l = lum(p);
+            if l > 0.0 && fill.ind[p] + fill.dir.iter().skip(p).step_by(np).sum::<f64>() > 0.0 {
+                fill.ratio[t * np + p] = l_o / l;
+            }
+        }
+    }
+    w.fill = Some(fill);
     for (t, sk) in m.skies.iter().enumerate() {
         if sk.sun_altitude_deg <= 0.0 {
             continue;
