@@ -197,30 +197,36 @@ impl Model {
     pub fn weights(&self, effects: &[Effect]) -> Weights {
         let mut w = self.unit_weights();
         for e in effects {
-            match e {
-                Effect::Transmittance { .. } => effects::transmittance::apply(e, self, &mut w),
-                Effect::Obstruction { .. } => effects::obstruction::apply(e, self, &mut w),
-                Effect::Reflectance { class, scale } => {
-                    if let Some(i) = self.refl.iter().position(|r| r.class == *class) {
-                        w.refl.push((i, scale - 1.0));
-                    }
-                    // The sky's ground patch (gendaymtx: reflectance 0.2 times the
-                    // horizontal illuminance, beyond the modelled ground) is not scaled:
-                    // rcalib's skies always use 0.2, and `apply` can only change the
-                    // ground's material, so the fitted model must not scale it either.
+            self.add_effect(e, &mut w);
+        }
+        w
+    }
+
+    /// Apply one more effect to weights (every effect multiplies its own factors, so the
+    /// order does not matter): lets a fit compute the other effects' weights once.
+    pub fn add_effect(&self, e: &Effect, w: &mut Weights) {
+        match e {
+            Effect::Transmittance { .. } => effects::transmittance::apply(e, self, w),
+            Effect::Obstruction { .. } => effects::obstruction::apply(e, self, w),
+            Effect::Reflectance { class, scale } => {
+                if let Some(i) = self.refl.iter().position(|r| r.class == *class) {
+                    w.refl.push((i, scale - 1.0));
                 }
-                Effect::Overhang { .. } => effects::overhang::apply(e, self, &mut w),
-                Effect::LocalObstruction { .. } => effects::local::apply(e, self, &mut w),
-                Effect::SensorFault { factors } => {
-                    for &(s, f) in factors {
-                        if let Some(c) = w.cal.get_mut(s) {
-                            *c *= f;
-                        }
+                // The sky's ground patch (gendaymtx: reflectance 0.2 times the
+                // horizontal illuminance, beyond the modelled ground) is not scaled:
+                // rcalib's skies always use 0.2, and `apply` can only change the
+                // ground's material, so the fitted model must not scale it either.
+            }
+            Effect::Overhang { .. } => effects::overhang::apply(e, self, w),
+            Effect::LocalObstruction { .. } => effects::local::apply(e, self, w),
+            Effect::SensorFault { factors } => {
+                for &(s, f) in factors {
+                    if let Some(c) = w.cal.get_mut(s) {
+                        *c *= f;
                     }
                 }
             }
         }
-        w
     }
 
     /// Per observation: (indirect, direct) light before the glazing scale, the local

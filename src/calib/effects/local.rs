@@ -60,6 +60,7 @@ pub fn apply(e: &Effect, m: &Model, w: &mut Weights) {
 /// Best group and fraction given the other effects.
 pub fn fit(f: &Fitter, base: &[Effect]) -> Option<Effect> {
     let base = without(base, "local-obstruction");
+    let w0 = f.m.weights(&base);
     let ns = f.m.nsens();
     let mut seen: Vec<Vec<usize>> = Vec::new();
     let mut best: Option<(Effect, f64)> = None;
@@ -74,12 +75,13 @@ pub fn fit(f: &Fitter, base: &[Effect]) -> Option<Effect> {
             seen.push(group.clone());
             let (x, s) = golden(
                 &mut |x| {
-                    let mut e = base.clone();
-                    e.push(Effect::LocalObstruction {
-                        sensors: group.clone(),
-                        fraction: x,
-                    });
-                    f.score(&e).m2ll
+                    f.m2ll_on(
+                        &w0,
+                        &Effect::LocalObstruction {
+                            sensors: group.clone(),
+                            fraction: x,
+                        },
+                    )
                 },
                 0.0,
                 1.0,

@@ -332,14 +332,16 @@ pub fn window_azimuths(m: &Model) -> Vec<f64> {
 /// or left in costs far more than the sky patches' share).
 pub fn fit(f: &Fitter, base: &[Effect]) -> Option<Effect> {
     let base = without(base, "obstruction");
+    let w0 = f.m.weights(&base);
     let eval = |a: f64, hw: f64, h: f64| {
-        let mut e = base.clone();
-        e.push(Effect::Obstruction {
-            azimuth: a.rem_euclid(360.0),
-            half_width: hw,
-            altitude: h,
-        });
-        f.score(&e).m2ll
+        f.m2ll_on(
+            &w0,
+            &Effect::Obstruction {
+                azimuth: a.rem_euclid(360.0),
+                half_width: hw,
+                altitude: h,
+            },
+        )
     };
     let best_h = |a: f64, hw: f64| golden(&mut |h| eval(a, hw, h), 0.0, 70.0, 22);
     let mut best: Option<(f64, f64, f64, f64)> = None;

@@ -137,13 +137,10 @@ pub fn apply(e: &Effect, m: &Model, wt: &mut Weights) {
 /// Best depth (0 to 3 m) for each window given the other effects.
 pub fn fit(f: &Fitter, base: &[Effect]) -> Option<Effect> {
     let base = without(base, "overhang");
+    let w0 = f.m.weights(&base);
     let mut best: Option<(Effect, f64)> = None;
     for window in 0..f.m.room.windows.len() {
-        let mut eval = |depth: f64| {
-            let mut e = base.clone();
-            e.push(Effect::Overhang { window, depth });
-            f.score(&e).m2ll
-        };
+        let mut eval = |depth: f64| f.m2ll_on(&w0, &Effect::Overhang { window, depth });
         // Coarse scan first: the profile can have shoulders where suns cross edges.
         let mut start = (0.0, f64::INFINITY);
         for k in 0..=12 {

@@ -69,13 +69,9 @@ pub fn apply(e: &Effect, m: &Model, w: &mut Weights) {
 
 /// Best transmissivity scale given the other effects in `base`.
 pub fn fit(f: &Fitter, base: &[Effect]) -> Option<Effect> {
-    let base = without(base, "transmittance");
+    let w0 = f.m.weights(&without(base, "transmittance"));
     let (x, _) = golden(
-        &mut |lt: f64| {
-            let mut e = base.clone();
-            e.push(Effect::Transmittance { scale: lt.exp() });
-            f.score(&e).m2ll
-        },
+        &mut |lt: f64| f.m2ll_on(&w0, &Effect::Transmittance { scale: lt.exp() }),
         0.05f64.ln(),
         // A transmissivity above 1 is not glass (and `apply` caps it there): beyond that
         // the profile is flat and the search would wander to the bound.
