@@ -11,5 +11,5 @@
 # and `... explain_timing_20_sensors_50_steps -- --ignored` are the other diagnostics.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-time cargo test --release --test rcalib_hits -- --ignored --nocapture 2>&1 \
+time cargo test --release --test rcalib_hits hit_rate_table -- --ignored --nocapture 2>&1 \
     | grep -E '^\||^hits'
