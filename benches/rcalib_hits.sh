@@ -4,7 +4,12 @@
 # Prints a Markdown table (ranked first / selected, RMSE_rel before, after apply,
 # noise-only) and the totals. RCALIB_ONLY=obstruction limits the effects; RCALIB_STEPS and
 # RCALIB_ROOM and RCALIB_CLIMATE (comma-separated name parts) pick a subset; RCALIB_MF change the steps and the sky subdivision. Takes about 10 minutes on 2 cores.
+# RCALIB_WORST=1 adds each case's worst readings, RCALIB_ORACLE=1 the error of the hidden
+# effect itself applied (parameter x 1.01): the Monte Carlo floor of the after-apply error.
+# The 'fit vs applied' column is RMSE_rel of the fitted prediction against the applied
+# model's re-simulation. `cargo test --release --test rcalib_hits fidelity_table -- --ignored`
+# and `... explain_timing_20_sensors_50_steps -- --ignored` are the other diagnostics.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-time cargo test --release --test rcalib_hits -- --ignored --nocapture 2>&1 \
+time cargo test --release --test rcalib_hits hit_rate_table -- --ignored --nocapture 2>&1 \
     | grep -E '^\||^hits'

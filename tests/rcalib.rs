@@ -1,6 +1,20 @@
 //! rcalib: input errors, and hidden-effect cases end to end (explain names the hidden
 //! effect, the control reports nothing, the applied model is within 1.3 x the noise-only
 //! error). The full hit-rate table is `tests/rcalib_hits.rs` (ignored; minutes).
+//!
+//! Where a case's bound is looser than the issue's 1.3, the reason is given with it. The
+//! common reason: the readings are simulated from the truth at the model's own settings
+//! (`-ad 2048`), and the noise-only error re-uses that very simulation, so it carries none
+//! of its Monte Carlo error, while the applied model is a second rdc run of a slightly
+//! different scene whose paths diverge from the truth's (in the deep room the inter-
+//! reflected sun of two such runs differs by 10-20 % per reading). `RCALIB_ORACLE=1` in
+//! the hit-rate table shows this floor: the hidden effect itself, parameter x 1.01,
+//! applied and re-simulated.
+//!
+//! Margins: each bound is the ratio measured here (seed 3, 24 steps) plus about 20 % (never
+//! above the issue's 1.3 where that is met), the spread of the same effect's ratio between
+//! rooms and climates in the hit-rate table (rdc's own seed-to-seed spread of the inter-reflected sun at the deepest sensors is
+//! 6-10 %, `rdc -I -ab 5 -ad 2048 -s 1..4`).
 
 use rdaylight::calib::cases::*;
 use rdaylight::calib::effects::Effect;
@@ -77,9 +91,10 @@ fn transmittance_in_the_office_under_london_skies() {
         london(),
         "transmittance",
         vec![Effect::Transmittance { scale: 0.7 }],
-        // The fitted scale is within 0.02 of the truth; what is left is Monte Carlo:
+        // The fitted scale is within 0.03 of the truth; what is left is Monte Carlo:
         // paths through glass of another transmissivity decorrelate at -ad 2048.
-        2.2,
+        // Measured 1.33x (0.725 for 0.7).
+        1.6,
     );
 }
 
@@ -94,11 +109,10 @@ fn obstruction_of_the_two_window_room_under_sunny_skies() {
             half_width: 45.0,
             altitude: 30.0,
         }],
-        // Issue 7 asks for 1.3x; with the current tracer the fit gives 200,40,33.6 (the
-        // sector ~3.6 degrees high and 5 degrees narrow: MF 1 patches are 12 degrees wide,
-        // so only the suns near its edges tell) and 5.5 % against 3.4 % noise-only (1.63x).
-        // Bound: that measured ratio rounded up, while issue 7 stays open for 1.3x.
-        1.7,
+        // Fitted 201.5,42.5,30.5 (sky cells of 0.75 degrees, each sensor's own view
+        // through the windows, the facade's reflected light, edges on a 1-degree grid):
+        // 3.9 % against 3.4 % noise-only, 1.16x. Issue 7's 1.3x.
+        1.3,
     );
 }
 
@@ -112,11 +126,13 @@ fn dark_walls_in_the_deep_room() {
             class: SurfaceClass::Walls,
             scale: 0.5,
         }],
-        // Found and ranked first, but the fitted scale (about 0.75 for 0.5, with sensor
-        // factors at the deepest sensors) leaves 10-20 %: the inter-reflected sun's
-        // sensitivity comes from the sky patches around the sun, not from its own paths,
-        // and in this sunny deep room that light dominates. Known limit (see the report).
-        7.0,
+        // Found and ranked first with the right scale (0.489 for 0.5; the inter-reflected
+        // sun's sensitivity is re-traced with the model's own seeds), but 13.4 % against
+        // 3.3 % noise-only (4.0x): in this sunny deep room the inter-reflected sun
+        // dominates and two rdc runs of it at -ad 2048 differ by 10-20 % per reading at
+        // the deep sensors (see the module doc); explain also adds a panel at the
+        // deepest sensor for that noise.
+        4.8,
     );
 }
 
@@ -147,10 +163,10 @@ fn combined_transmittance_and_obstruction() {
                 altitude: 28.0,
             },
         ],
-        // The sector's altitude comes out 3-5 degrees high; suns near its edge dominate.
-        // Measured with the current tracer: 10.1 % against 3.4 % noise-only (3.01x); bound
-        // rounded up from that, while issue 7 stays open for the 1.3x it asks for.
-        3.1,
+        // Fitted 160.5,39.5,29.7 and 0.789 for 160,40,28 and 0.75: 7.5 % against 3.4 %
+        // noise-only (2.21x): the glazing scale absorbs part of the Monte Carlo
+        // disagreement between the model's and the truth's runs (see the module doc).
+        2.6,
     );
 }
 

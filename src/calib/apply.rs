@@ -221,14 +221,26 @@ fn window_centre(room: &Room, sensors: &[Sensor]) -> ([f64; 3], f64) {
     }
 }
 
-/// Faces of a panel in front of `group` (towards the nearest window) that blocks about
-/// `fraction` of the window's elevation span seen from the sensors.
-fn local_box(
+/// The panel `rcalib apply` writes for a local obstruction: a box 0.1 m thick from the
+/// floor to `top`, between the group's sensors and their nearest window, across the group's
+/// extent along the wall plus 0.4 m each side. Coordinates of that window: `u` along its
+/// tangent, `d` depth into the room ([`super::room::Window::depth_of`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Panel {
+    pub window: usize,
+    pub u: (f64, f64),
+    pub d: (f64, f64),
+    pub top: f64,
+}
+
+/// The panel in front of `group` that blocks about `fraction` of the window's elevation span
+/// seen from the sensors.
+pub fn local_panel(
     room: &Room,
     sensors: &[Sensor],
     group: &[usize],
     fraction: f64,
-) -> Result<(usize, Vec<Vec<[f64; 3]>>)> {
+) -> Result<Panel> {
     let pts: Vec<[f64; 3]> = group
         .iter()
         .filter_map(|&i| sensors.get(i).map(|s| s.ray.org))
@@ -256,53 +268,105 @@ fn local_box(
     let e_hi = ((w.head - zs) / dmean).atan();
     let e_c = e_lo + fraction.clamp(0.0, 1.0) * (e_hi - e_lo);
     let top = (zs + gap * e_c.tan()).max(zs + 0.05);
-    let (u0, u1) = (
+    let u = (
         us.iter().copied().fold(f64::INFINITY, f64::min) - 0.4,
         us.iter().copied().fold(f64::NEG_INFINITY, f64::max) + 0.4,
     );
-    // Panel between depth dmin - gap - 0.1 and dmin - gap (towards the window).
-    let cu = dot(w.centroid, w.tangent);
-    let p = |u: f64, d: f64, z: f64| {
-        [
-            w.centroid[0] + w.tangent[0] * (u - cu) - w.outward[0] * d,
-            w.centroid[1] + w.tangent[1] * (u - cu) - w.outward[1] * d,
-            z,
+    // Between depth dmin - gap - 0.1 and dmin - gap (towards the window).
+    let d = ((dmin - gap - 0.1).max(0.05), (dmin - gap).max(0.1));
+    Ok(Panel {
+        window: wi,
+        u,
+        d,
+        top,
+    })
+}
+
+impl Panel {
+    /// The lowest height at which the ray from `org` along `dir` crosses the panel's
+    /// footprint (the box reaches the floor, so the ray is blocked when this is below
+    /// `top`); `None` when it misses the footprint.
+    pub fn lowest_crossing(
+        &self,
+        w: &super::room::Window,
+        org: [f64; 3],
+        dir: [f64; 3],
+    ) -> Option<f64> {
+        let (dd, uu) = (w.depth_of(org), dot(org, w.tangent));
+        // depth(t) = dd - c t, u(t) = uu + k t.
+        let (c, k) = (dot(dir, w.outward), dot(dir, w.tangent));
+        let slab = |x0: f64, rate: f64, lo: f64, hi: f64| -> Option<(f64, f64)> {
+            if rate.abs() < 1e-12 {
+                return (lo..=hi).contains(&x0).then_some((0.0, f64::INFINITY));
+            }
+            let (t1, t2) = ((lo - x0) / rate, (hi - x0) / rate);
+            Some((t1.min(t2), t1.max(t2)))
+        };
+        let (a0, a1) = slab(dd, -c, self.d.0, self.d.1)?;
+        let (b0, b1) = slab(uu, k, self.u.0, self.u.1)?;
+        let (t0, t1) = (a0.max(b0).max(0.0), a1.min(b1));
+        if t1 < t0 {
+            return None;
+        }
+        let z = |t: f64| org[2] + dir[2] * t;
+        Some(if dir[2] >= 0.0 { z(t0) } else { z(t1) })
+    }
+
+    fn faces(&self, w: &super::room::Window) -> Vec<Vec<[f64; 3]>> {
+        let cu = dot(w.centroid, w.tangent);
+        let p = |u: f64, d: f64, z: f64| {
+            [
+                w.centroid[0] + w.tangent[0] * (u - cu) - w.outward[0] * d,
+                w.centroid[1] + w.tangent[1] * (u - cu) - w.outward[1] * d,
+                z,
+            ]
+        };
+        let ((u0, u1), (d0, d1), top) = (self.u, self.d, self.top);
+        vec![
+            vec![
+                p(u0, d0, 0.0),
+                p(u0, d0, top),
+                p(u1, d0, top),
+                p(u1, d0, 0.0),
+            ],
+            vec![
+                p(u0, d1, 0.0),
+                p(u1, d1, 0.0),
+                p(u1, d1, top),
+                p(u0, d1, top),
+            ],
+            vec![
+                p(u0, d0, top),
+                p(u0, d1, top),
+                p(u1, d1, top),
+                p(u1, d0, top),
+            ],
+            vec![
+                p(u0, d0, 0.0),
+                p(u0, d1, 0.0),
+                p(u0, d1, top),
+                p(u0, d0, top),
+            ],
+            vec![
+                p(u1, d0, 0.0),
+                p(u1, d0, top),
+                p(u1, d1, top),
+                p(u1, d1, 0.0),
+            ],
         ]
-    };
-    let (d0, d1) = ((dmin - gap - 0.1).max(0.05), (dmin - gap).max(0.1));
-    let faces = vec![
-        vec![
-            p(u0, d0, 0.0),
-            p(u0, d0, top),
-            p(u1, d0, top),
-            p(u1, d0, 0.0),
-        ],
-        vec![
-            p(u0, d1, 0.0),
-            p(u1, d1, 0.0),
-            p(u1, d1, top),
-            p(u0, d1, top),
-        ],
-        vec![
-            p(u0, d0, top),
-            p(u0, d1, top),
-            p(u1, d1, top),
-            p(u1, d0, top),
-        ],
-        vec![
-            p(u0, d0, 0.0),
-            p(u0, d1, 0.0),
-            p(u0, d1, top),
-            p(u0, d0, top),
-        ],
-        vec![
-            p(u1, d0, 0.0),
-            p(u1, d0, top),
-            p(u1, d1, top),
-            p(u1, d1, 0.0),
-        ],
-    ];
-    Ok((wi, faces))
+    }
+}
+
+/// Faces of the panel of [`local_panel`].
+fn local_box(
+    room: &Room,
+    sensors: &[Sensor],
+    group: &[usize],
+    fraction: f64,
+) -> Result<(usize, Vec<Vec<[f64; 3]>>)> {
+    let panel = local_panel(room, sensors, group, fraction)?;
+    let w = &room.windows[panel.window];
+    Ok((panel.window, panel.faces(w)))
 }
 
 /// Readings with the sensor-fault factors divided out (other effects leave them alone).

@@ -55,6 +55,14 @@ impl<'a> Fitter<'a> {
         self.score_sim(&self.m.finish(parts, w)).m2ll
     }
 
+    /// -2 ln L of `e` added to precomputed weights `w0` of the other effects (fits call
+    /// this in their searches instead of re-computing every effect's weights).
+    pub fn m2ll_on(&self, w0: &Weights, e: &Effect) -> f64 {
+        let mut w = w0.clone();
+        self.m.add_effect(e, &mut w);
+        self.m2ll_parts(&self.m.parts(&w), &w)
+    }
+
     /// Standard uncertainty of the main parameter of `effects[i]` from the curvature of
     /// -2 ln L (Fisher information: var = 2 / second derivative), `None` when flat.
     pub fn uncertainty(&self, effects: &[Effect], i: usize, step: f64) -> Option<f64> {

@@ -1,17 +1,17 @@
 //! # The model under calibration: components, sensitivities, observations, prediction
 //!
 //! [`Model`] holds what every fit needs: the [`Components`] of the model as given, the
-//! reflectance sensitivities (coefficients with each surface class's reflectance scaled by
-//! `1 ± DELTA`, from one traced run with path re-weighting records, combined by quadratic
-//! interpolation; the inter-reflected sun's from the sky patches around it), the room's windows, the
-//! skies and the observations. [`Model::predict`] turns a list of effects into simulated
-//! illuminances for every observation in a fraction of a millisecond per hundred readings,
-//! which is what makes fitting interactive.
-//!
+//! reflectance sensitivities (the light with each surface class's reflectance scaled by
+//! `1 ± DELTA`, combined by quadratic interpolation: the sky's from one traced run with path
+//! re-weighting records, the inter-reflected sun's from `Vsun` re-traced on the scaled
+//! scene with the same seeds), the room's windows, the skies and the observations.
+//! [`Model::predict`] turns a list of effects into simulated illuminances for every
+//! observation in a fraction of a millisecond per hundred readings, which is what makes
+//! fitting interactive.
 
 use super::effects::{self, Effect};
 use super::measurements::Bound;
-use super::room::{Room, SurfaceClass};
+use super::room::{Room, SurfaceClass, scaled_scene};
 use super::simulate::{Components, Dcs, StepSky, Tracer};
 use crate::error::Result;
 use crate::formats::sensors::Sensor;
@@ -42,6 +42,21 @@ pub struct Model {
     pub skies: Vec<StepSky>,
     pub patches: SkyPatches,
     pub obs: Vec<Bound>,
+    /// The sky cells the exterior obstruction blocks, computed on first use.
+    pub horizon: std::sync::OnceLock<effects::obstruction::Horizon>,
+}
+
+/// The light an exterior obstruction's facade sends towards the room in place of the sky
+/// it hides (see [`super::effects::obstruction`]): per patch the hidden share of the light
+/// entering the windows, per sensor and patch the hidden share of its direct view, and per
+/// step and patch the facade's luminance over the patch's.
+#[derive(Debug, Clone)]
+pub struct Fill {
+    pub ind: Vec<f64>,
+    /// `[s][p]`
+    pub dir: Vec<f64>,
+    /// `[t][p]`
+    pub ratio: Vec<f64>,
 }
 
 /// Multipliers the effects set (see [`super::effects`]); all 1 for the model as given.
@@ -61,6 +76,8 @@ pub struct Weights {
     pub sun_win_dir: Option<Vec<f64>>,
     /// Per sensor: direct light left by a local obstruction.
     pub local: Vec<f64>,
+    /// What an exterior obstruction sends back in place of the sky it hides.
+    pub fill: Option<Fill>,
     pub tau: f64,
     /// Per sensor: reading / true illuminance.
     pub cal: Vec<f64>,
@@ -87,45 +104,49 @@ impl Model {
         let mut refl = Vec::new();
         if with_reflectance {
             let classes = room.classes();
-            // The middle variant is the re-weighted run's own (unscaled) coefficients: the
-            // differences then come from one set of paths even where the cached `total`
-            // was traced by another version of the tracer.
-            let (scaled, none) =
+            // Sky: one traced run with path re-weighting records. The middle variant is
+            // that run's own (unscaled) coefficients, so the differences come from one set
+            // of paths even where the cached `total` was traced by another tracer version.
+            let (scaled, _none) =
                 tracer.dc_scaled(scene, &room, &classes, &[1.0 - DELTA, 1.0, 1.0 + DELTA])?;
-            let c_none = Components::new(
-                &Dcs {
-                    total: none,
-                    ..dcs.clone()
-                },
-                &skies,
-            );
             for (&class, v) in classes.iter().zip(scaled) {
                 let [lo, mid, hi]: [Vec<f64>; 3] = v.try_into().map_err(|_| {
                     crate::error::Error::Mismatch("re-weighting: three variants expected".into())
                 })?;
-                let c_lo = Components::new(
-                    &Dcs {
-                        total: lo,
-                        ..dcs.clone()
-                    },
-                    &skies,
-                );
-                let c_mid = Components::new(
-                    &Dcs {
-                        total: mid,
-                        ..dcs.clone()
-                    },
-                    &skies,
-                );
-                let c_hi = Components::new(
-                    &Dcs {
-                        total: hi,
-                        ..dcs.clone()
-                    },
-                    &skies,
-                );
+                let sky = |total: Vec<f64>| {
+                    Components::new(
+                        &Dcs {
+                            total,
+                            ..dcs.clone()
+                        },
+                        &skies,
+                    )
+                    .sky
+                };
+                // The inter-reflected sun: Vsun re-traced on the scene with the class
+                // scaled, with the same per-step seeds as the model's own Vsun. Rdc's
+                // re-weighting does not cover point-in-time values, and the sky patches
+                // around the sun are a poor stand-in for the sun's own paths (they land
+                // elsewhere and carry a few paths each). With diffuse materials and
+                // weights far above -lw the re-traced paths are the same paths, so the
+                // differences are free of Monte Carlo noise.
+                let sun_ind = |k: f64| -> Result<Vec<f64>> {
+                    let sc = scaled_scene(scene, &room, &[(class, k)], 1.0);
+                    let vs = tracer.sun_total_of(&sc)?;
+                    Ok(Components::new(
+                        &Dcs {
+                            sun_total: vs,
+                            ..dcs.clone()
+                        },
+                        &skies,
+                    )
+                    .sun_indirect)
+                };
+                let (s_lo, s_hi) = (sun_ind(1.0 - DELTA)?, sun_ind(1.0 + DELTA)?);
                 refl.push(sensitivity(
-                    class, &comps, &c_none, &c_mid, &c_lo, &c_hi, &skies, &patches,
+                    class,
+                    (&sky(lo), &sky(mid), &sky(hi)),
+                    (&s_lo, &comps.sun_indirect, &s_hi),
                 ));
             }
         }
@@ -137,7 +158,14 @@ impl Model {
             skies,
             patches,
             obs,
+            horizon: std::sync::OnceLock::new(),
         })
+    }
+
+    /// The sky cells of [`effects::obstruction::Horizon`] (built on first use).
+    pub fn horizon(&self) -> &effects::obstruction::Horizon {
+        self.horizon
+            .get_or_init(|| effects::obstruction::Horizon::new(self))
     }
 
     pub fn nsens(&self) -> usize {
@@ -158,6 +186,7 @@ impl Model {
             sun_win_ind: vec![1.0; nt],
             sun_win_dir: None,
             local: vec![1.0; ns],
+            fill: None,
             tau: 1.0,
             cal: vec![1.0; ns],
             refl: Vec::new(),
@@ -168,38 +197,37 @@ impl Model {
     pub fn weights(&self, effects: &[Effect]) -> Weights {
         let mut w = self.unit_weights();
         for e in effects {
-            match e {
-                Effect::Transmittance { .. } => effects::transmittance::apply(e, self, &mut w),
-                Effect::Tint { .. } => effects::tint::apply(e, self, &mut w),
-                Effect::Obstruction { .. } => effects::obstruction::apply(e, self, &mut w),
-                Effect::Reflectance { class, scale } => {
-                    if let Some(i) = self.refl.iter().position(|r| r.class == *class) {
-                        w.refl.push((i, scale - 1.0));
-                    }
-                    if *class == SurfaceClass::Ground {
-                        // gendaymtx's ground patch is the ground reflectance times the
-                        // horizontal illuminance: it scales with the albedo.
-                        w.patch[0] *= scale;
-                    }
+            self.add_effect(e, &mut w);
+        }
+        w
+    }
+
+    /// Apply one more effect to weights (every effect multiplies its own factors, so the
+    /// order does not matter): lets a fit compute the other effects' weights once.
+    pub fn add_effect(&self, e: &Effect, w: &mut Weights) {
+        match e {
+            Effect::Transmittance { .. } => effects::transmittance::apply(e, self, w),
+            Effect::Tint { .. } => effects::tint::apply(e, self, w),
+            Effect::Obstruction { .. } => effects::obstruction::apply(e, self, w),
+            Effect::Reflectance { class, scale } => {
+                if let Some(i) = self.refl.iter().position(|r| r.class == *class) {
+                    w.refl.push((i, scale - 1.0));
                 }
-                Effect::Overhang { .. } => effects::overhang::apply(e, self, &mut w),
-                Effect::LocalObstruction { sensors, fraction } => {
-                    for &s in sensors {
-                        if let Some(l) = w.local.get_mut(s) {
-                            *l *= 1.0 - fraction;
-                        }
-                    }
-                }
-                Effect::SensorFault { factors } => {
-                    for &(s, f) in factors {
-                        if let Some(c) = w.cal.get_mut(s) {
-                            *c *= f;
-                        }
+                // The sky's ground patch (gendaymtx: reflectance 0.2 times the
+                // horizontal illuminance, beyond the modelled ground) is not scaled:
+                // rcalib's skies always use 0.2, and `apply` can only change the
+                // ground's material, so the fitted model must not scale it either.
+            }
+            Effect::Overhang { .. } => effects::overhang::apply(e, self, w),
+            Effect::LocalObstruction { .. } => effects::local::apply(e, self, w),
+            Effect::SensorFault { factors } => {
+                for &(s, f) in factors {
+                    if let Some(c) = w.cal.get_mut(s) {
+                        *c *= f;
                     }
                 }
             }
         }
-        w
     }
 
     /// Per observation: (indirect, direct) light before the glazing scale, the local
@@ -224,6 +252,11 @@ impl Model {
                     let wd = w.win_dir.as_ref().map_or(1.0, |v| v[s * np + p]);
                     ind += w.patch[p] * w.win_ind[p] * (tot - d);
                     dir += w.patch[p] * wd * d;
+                    if let Some(f) = &w.fill {
+                        let r = f.ratio[t * np + p];
+                        ind += w.patch[p] * f.ind[p] * r * (tot - d);
+                        dir += w.patch[p] * f.dir[s * np + p] * r * d;
+                    }
                 }
                 let mut si = c.sun_indirect[st];
                 for &(i, dk) in &w.refl {
@@ -267,34 +300,12 @@ impl Model {
     }
 }
 
-/// Angular width (standard deviation, degrees) of the kernel that pools the sky patches
-/// around the sun into its relative sensitivity: about one Tregenza patch (12 degrees wide),
-/// so that a few patches' worth of paths share the estimate.
-const SUN_KERNEL_DEG: f64 = 8.0;
-
-/// Sensitivities from components at `1 - DELTA` and `1 + DELTA`.
-///
-/// The inter-reflected sun is not re-traced (one run per step, class and scale would
-/// dominate the cost). Its *relative* sensitivity is taken from the sky patches around the
-/// sun's position: light of sky patch `p` that reaches the sensor only after reflection
-/// first lands where the window's projection along `p` falls, which is where the sun
-/// inside `p` lands too (the last vertex of a sensor path leaving through the window
-/// towards `p` is a first-bounce point of that patch's light). So per sensor
-/// `dVsun/dk / Vsun_ind = sum_p w_p dDC_p/dk / sum_p w_p DC_ind,p`, with `w_p` a Gaussian in
-/// the angle between patch `p`'s centre and the sun. Averaging over the whole sky instead
-/// (the sensor's total inter-reflected sky light) mixes in the ground patch, whose light
-/// goes up to the ceiling, while the sun lands on the floor or walls: the walls' and the
-/// ground's sensitivities of the sun were then wrong by factors of several.
-#[allow(clippy::too_many_arguments)]
+/// First and second derivatives from values at `1 - DELTA`, 1 and `1 + DELTA` (quadratic
+/// interpolation), for the sky (per patch) and the inter-reflected sun.
 fn sensitivity(
     class: SurfaceClass,
-    c0: &Components,
-    none: &Components,
-    mid: &Components,
-    lo: &Components,
-    hi: &Components,
-    skies: &[StepSky],
-    patches: &SkyPatches,
+    sky: (&[f64], &[f64], &[f64]),
+    sun: (&[f64], &[f64], &[f64]),
 ) -> ReflSens {
     let d1 = |a: &[f64], b: &[f64]| -> Vec<f64> {
         a.iter()
@@ -309,77 +320,12 @@ fn sensitivity(
             .map(|((l, m), h)| (h - 2.0 * m + l) / (2.0 * DELTA * DELTA))
             .collect()
     };
-    let d1_sky = d1(&lo.sky, &hi.sky);
-    let d2_sky = d2(&lo.sky, &mid.sky, &hi.sky);
-    let (ns, nt, np) = (c0.nsens, c0.nsteps, c0.npatch);
-    // Per step: kernel weights of the patches near the sun (none while it is down).
-    let kernels: Vec<Vec<(usize, f64)>> = skies
-        .iter()
-        .map(|sk| {
-            if sk.sun_radiance <= 0.0 || sk.sun_altitude_deg <= 0.0 || np != patches.len() {
-                return Vec::new();
-            }
-            let sigma = SUN_KERNEL_DEG.to_radians();
-            (1..np)
-                .filter_map(|p| {
-                    let c = patches.centre(p);
-                    let cos = (c[0] * sk.sun_dir[0] + c[1] * sk.sun_dir[1] + c[2] * sk.sun_dir[2])
-                        .clamp(-1.0, 1.0);
-                    let a = cos.acos();
-                    (a < 3.0 * sigma).then(|| (p, (-0.5 * (a / sigma).powi(2)).exp()))
-                })
-                .collect()
-        })
-        .collect();
-    let mut d1_sun = vec![0.0; ns * nt];
-    let mut d2_sun = vec![0.0; ns * nt];
-    for s in 0..ns {
-        // Per patch, summed over the steps: inter-reflected sky light and its derivatives
-        // (the ratio of a patch's derivative to its light does not depend on the sky).
-        let (mut ind, mut a1, mut a2) = (vec![0.0; np], vec![0.0; np], vec![0.0; np]);
-        for t in 0..nt {
-            let base = (s * nt + t) * np;
-            for p in 0..np {
-                // Light that met a tracked surface, from the same paths as the derivatives
-                // (mid minus direct-only coefficients of another run is a small
-                // difference of noisy numbers where the sensor sees the patch).
-                ind[p] += mid.sky[base + p] - none.sky[base + p];
-                a1[p] += d1_sky[base + p];
-                a2[p] += d2_sky[base + p];
-            }
-        }
-        let all: f64 = ind.iter().sum();
-        if all <= 0.0 {
-            continue;
-        }
-        // The whole sky's ratio: the fallback where the patches around the sun carry no
-        // inter-reflected light.
-        let g1 = a1.iter().sum::<f64>() / all;
-        let g2 = a2.iter().sum::<f64>() / all;
-        for t in 0..nt {
-            let (mut wi, mut w1, mut w2) = (0.0, 0.0, 0.0);
-            for &(p, w) in &kernels[t] {
-                wi += w * ind[p];
-                w1 += w * a1[p];
-                w2 += w * a2[p];
-            }
-            // Below a thousandth of the sensor's inter-reflected sky light the patches'
-            // few paths say nothing reliable.
-            let (r1, r2) = if wi > 1e-3 * all {
-                (w1 / wi, w2 / wi)
-            } else {
-                (g1, g2)
-            };
-            d1_sun[s * nt + t] = c0.sun_indirect[s * nt + t] * r1;
-            d2_sun[s * nt + t] = c0.sun_indirect[s * nt + t] * r2;
-        }
-    }
     ReflSens {
         class,
-        d1_sky,
-        d2_sky,
-        d1_sun,
-        d2_sun,
+        d1_sky: d1(sky.0, sky.2),
+        d2_sky: d2(sky.0, sky.1, sky.2),
+        d1_sun: d1(sun.0, sun.2),
+        d2_sun: d2(sun.0, sun.1, sun.2),
     }
 }
 

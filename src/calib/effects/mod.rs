@@ -145,7 +145,7 @@ impl Effect {
                 azimuth,
                 half_width,
                 altitude,
-            } => format!("obstruction:{azimuth:.0},{half_width:.0},{altitude:.1}"),
+            } => format!("obstruction:{azimuth:.1},{half_width:.1},{altitude:.1}"),
             Effect::Reflectance { scale, .. } => format!("{}:{scale:.3}", self.family()),
             Effect::Overhang { window, depth } => format!(
                 "overhang:{depth:.2},{}",

@@ -24,13 +24,9 @@ pub fn fit(f: &Fitter, base: &[Effect], class: SurfaceClass) -> Option<Effect> {
     } else {
         (0.4, 1.6)
     };
-    let base = without(base, probe.family());
+    let w0 = f.m.weights(&without(base, probe.family()));
     let (k, _) = golden(
-        &mut |k| {
-            let mut e = base.clone();
-            e.push(Effect::Reflectance { class, scale: k });
-            f.score(&e).m2ll
-        },
+        &mut |k| f.m2ll_on(&w0, &Effect::Reflectance { class, scale: k }),
         lo,
         hi,
         30,

@@ -7,7 +7,7 @@
 //! light entering from a direction at incidence θ scales by `T(θ; k tn) / T(θ; tn)`: a
 //! little more at grazing incidence (low sun, sky near the horizon) than at normal
 //! incidence. Signature: an almost uniform relative bias at every sensor and time.
-//! Fitted on a log scale between 0.05 and 2.
+//! Fitted on a log scale between 0.05 and the scale that makes the transmissivity 1.
 
 use super::{Effect, golden};
 use crate::calib::fit::{Fitter, without};
@@ -69,15 +69,13 @@ pub fn apply(e: &Effect, m: &Model, w: &mut Weights) {
 
 /// Best transmissivity scale given the other effects in `base`.
 pub fn fit(f: &Fitter, base: &[Effect]) -> Option<Effect> {
-    let base = without(base, "transmittance");
+    let w0 = f.m.weights(&without(base, "transmittance"));
     let (x, _) = golden(
-        &mut |lt: f64| {
-            let mut e = base.clone();
-            e.push(Effect::Transmittance { scale: lt.exp() });
-            f.score(&e).m2ll
-        },
+        &mut |lt: f64| f.m2ll_on(&w0, &Effect::Transmittance { scale: lt.exp() }),
         0.05f64.ln(),
-        2f64.ln(),
+        // A transmissivity above 1 is not glass (and `apply` caps it there): beyond that
+        // the profile is flat and the search would wander to the bound.
+        (1.0 / f.m.room.glass_tn.max(0.5)).clamp(1.0, 2.0).ln(),
         40,
     );
     Some(Effect::Transmittance { scale: x.exp() })
