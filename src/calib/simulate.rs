@@ -264,6 +264,16 @@ impl Tracer {
         self.run_with(&self.settings, scene_text, kind)
     }
 
+    /// [`Tracer::run`] with step `t`'s own seed (the per-step seeds of `Vsun`; the spectral
+    /// `Vsun` uses the same, so photopic and spectral runs follow the same paths).
+    pub fn run_for_step(&self, t: usize, scene_text: &str, kind: &[&str]) -> Result<Vec<f64>> {
+        let seeded = Settings {
+            seed: self.settings.seed.wrapping_add(1000 + t as u64),
+            ..self.settings.clone()
+        };
+        self.run_with(&seeded, scene_text, kind)
+    }
+
     /// [`Tracer::run`] with other sampling settings (the per-step seeds of `Vsun`).
     fn run_with(&self, settings: &Settings, scene_text: &str, kind: &[&str]) -> Result<Vec<f64>> {
         let settings_key = format!("{settings:?}");
@@ -391,11 +401,7 @@ impl Tracer {
             // or a reflectance pattern to `explain`. Per-step seeds make it per-reading
             // noise, which the fits average out; a scene and its calibrated version still
             // share each step's seed (correlated errors, as before).
-            let seeded = Settings {
-                seed: self.settings.seed.wrapping_add(1000 + t as u64),
-                ..self.settings.clone()
-            };
-            let v = self.run_with(&seeded, &scene, &["-dj", "0"])?;
+            let v = self.run_for_step(t, &scene, &["-dj", "0"])?;
             if v.len() != ns * 3 {
                 return Err(Error::Mismatch(format!(
                     "rdc returned {} values for {ns} sensors",

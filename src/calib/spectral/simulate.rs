@@ -129,7 +129,7 @@ pub fn simulate(
             );
             let mut k: Vec<&str> = vec!["-dj", "0"];
             k.extend(cs.iter().map(String::as_str));
-            let v = tracer.run(&sun_scene, &k)?;
+            let v = tracer.run_for_step(t, &sun_scene, &k)?;
             if v.len() != nsens * n {
                 return Err(Error::Mismatch(format!(
                     "rdc returned {} values for {nsens} sensors and {n} bands",
