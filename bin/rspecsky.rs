@@ -1,5 +1,7 @@
 //! `rspecsky`: Perez all-weather sky matrices from a weather file (the `gendaymtx`
-//! counterpart) and point-in-time Perez skies as scene text (the `gendaylit` counterpart).
+//! counterpart), physically based spectral matrices (`--model atmosphere`, the
+//! `gensdaymtx` counterpart) and point-in-time skies as scene text (the `gendaylit` and
+//! `genssky` counterparts).
 //! The models are in `rdaylight::sky::{matrix, pointsky}`; this file parses options, reads
 //! the weather, writes the output and reports.
 
@@ -34,6 +36,8 @@ Examples:
   A gendaylit-style sky for 2 March 12:30, from the weather file or given irradiances:
     rspecsky --at \"3 2 12.5\" london.epw > sky.rad
     rspecsky --at \"3 2 12.5\" -W 838 79 -a 51.15 -o 0.18 -m 0 > sky.rad
+  A physically based 20-band sky matrix as Radiance 6's gensdaymtx (tables cached):
+    rspecsky --model atmosphere -u -m 1 -of london.epw > sky20.smx
   A physically based spectral sky and sun as Radiance 6's genssky (same options):
     rspecsky genssky 3 2 15.25 -a 42 -o 108 -m 110 -c 0.5 > sky.rad
     oconv sky.rad room.rad > room.oct";

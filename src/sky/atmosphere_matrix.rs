@@ -47,8 +47,23 @@
 //!   bands, so the matrix multiplies `rcontrib -cs N` coefficients directly.
 //!
 //! Everything else (patch centres, sun spreading, overcast blend, 1.15 factor, sea-level
-//! viewer) follows gensdaymtx, so that the two agree to the precision of the tables; the
-//! measured agreement is in `tests/spectral_skymtx.rs`.
+//! viewer) follows gensdaymtx, so that the two agree to the precision of the tables.
+//!
+//! ## Agreement with gensdaymtx (measured, `tests/spectral_skymtx.rs`)
+//!
+//! Two London IWEC days against real gensdaymtx 6.0a (`-u -m 1`, 16 sun-up hours each;
+//! June 28 with 0-2/10 sky cover, June 8 half cloudy; AOD 0.206 from the EPW; same
+//! `mie_ca.dat`), every step: sky radiance per band and patch within 0.03 %, patch-summed
+//! sky irradiance per band within 0.02 %, photopic sky, sun and ground within 0.01 %, CCT
+//! of the sky within 1 K. No systematic difference remains: the same model is evaluated
+//! from tables computed with the same quadratures (ours in double precision, stored as
+//! f32; gensdaymtx's in text files). Without `mie_ca.dat` (fallback aerosol profile) the
+//! clear June day's patch-summed sky is within 1.5 % per band at the bright hours and
+//! within 6.4 % per band (ground 8 %) at sunrise and sunset (the profile's effect grows
+//! with air mass).
+//!
+//! Unlike the Perez-based `rspecsky -cs N` ([`super::spectral`]: -24 % to +11 % photopic
+//! and 3-15 % bluer than gensdaymtx on other London days), this mode is gensdaymtx's sky.
 
 use super::atmosphere::cache::{CacheStatus, load_or_compute};
 use super::atmosphere::{
