@@ -154,7 +154,7 @@ struct Cli {
 
     /// With --model atmosphere: one aerosol optical depth for every record (default: the
     /// weather file's AOD column, else 0.115, as gensdaymtx).
-    #[arg(long = "aod", value_name = "AOD")]
+    #[arg(long = "aod", value_name = "AOD", allow_negative_numbers = true)]
     aod: Option<f64>,
 
     /// With --model atmosphere: folder of the cached atmosphere tables (gensdaymtx -p;

@@ -28,12 +28,13 @@ fn fixture(name: &str) -> PathBuf {
     common::repo().join("radiance-fixtures/spectral").join(name)
 }
 
-/// Our matrix for a fixture day, with genssky's aerosol profile.
-fn ours(day: &str, dir: &Path) -> Matrix {
+/// Our matrix for a fixture day, with genssky's aerosol profile (`extra` options first).
+fn ours(day: &str, dir: &Path, extra: &[&str]) -> Matrix {
     let (_, lib) = common::radiance_dirs().unwrap();
     let tables = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("genssky_tables");
     let out = common::run_ok(
         common::ours("rspecsky")
+            .args(extra)
             .args(["--model", "atmosphere", "-u", "-m", "1", "-of", "-l"])
             .arg(lib.join("mie_ca.dat"))
             .arg("-p")
@@ -41,7 +42,7 @@ fn ours(day: &str, dir: &Path) -> Matrix {
             .arg(fixture(&format!("gensdaymtx_{day}.epw"))),
         b"",
     );
-    let p = dir.join(format!("{day}.smx"));
+    let p = dir.join(format!("{day}{}.smx", extra.join("")));
     std::fs::write(&p, out).unwrap();
     load(&p)
 }
@@ -140,7 +141,7 @@ fn atmosphere_matrix_agrees_with_gensdaymtx() {
     );
     for day in ["london_jun28", "london_jun08"] {
         let theirs = load(&fixture(&format!("gensdaymtx_{day}.smx")));
-        let a = ours(day, t.path());
+        let a = ours(day, t.path(), &[]);
         assert_eq!(
             (a.nrows, a.ncols, a.channels),
             (theirs.nrows, theirs.ncols, theirs.channels)
@@ -192,5 +193,61 @@ fn atmosphere_matrix_agrees_with_gensdaymtx() {
             );
             assert!((r.cct.0 - r.cct.1).abs() < 20.0, "{day} {c}: {:?}", r.cct);
         }
+    }
+}
+
+/// `-cs 10` rebins the 20 model bands: each 40 nm band is the mean of its two 20 nm bands
+/// (same tables, so this reuses the cache of the test above or fills it).
+#[test]
+fn fewer_bands_are_means_of_the_model_bands() {
+    if !common::have_radiance("gensdaymtx rebinning (mie_ca.dat)") {
+        return;
+    }
+    let t = common::tmpdir();
+    let a = ours("london_jun28", t.path(), &[]);
+    let b = ours("london_jun28", t.path(), &["-cs", "10"]);
+    assert_eq!(b.channels.ncomp, 10);
+    assert_eq!((a.nrows, a.ncols), (b.nrows, b.ncols));
+    for r in 0..a.nrows {
+        for c in 0..a.ncols {
+            let (x, y) = (a.get(r, c), b.get(r, c));
+            for i in 0..10 {
+                let want = (x[2 * i] + x[2 * i + 1]) / 2.0;
+                assert!(
+                    (y[i] - want).abs() <= 1e-5 * want.abs() + 1e-9,
+                    "{r} {c} {i}"
+                );
+            }
+        }
+    }
+}
+
+/// Bad options: one line naming the option and what is expected, exit status 1.
+#[test]
+fn bad_model_options_are_refused() {
+    let epw = fixture("gensdaymtx_london_jun28.epw");
+    for (args, want) in [
+        (
+            vec!["--model", "bruneton"],
+            "--model bruneton: expected perez or atmosphere",
+        ),
+        (
+            vec!["--model", "atmosphere", "--aod", "-1"],
+            "--aod -1: aerosol optical depth must be 0 to 10",
+        ),
+        (
+            vec!["--model", "atmosphere", "-c", "1", "1", "1"],
+            "-c (the model gives the sky colour) is not supported with --model atmosphere",
+        ),
+        (
+            vec!["--aod", "0.2"],
+            "--aod is only used with --model atmosphere",
+        ),
+    ] {
+        let out = common::run(common::ours("rspecsky").args(&args).arg(&epw), b"");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{args:?}: {err}");
+        assert!(err.contains(want), "{args:?}: {err}");
+        assert!(out.stdout.is_empty());
     }
 }
