@@ -32,14 +32,29 @@ fn fixture(name: &str) -> PathBuf {
 fn ours(day: &str, dir: &Path, extra: &[&str]) -> Matrix {
     let (_, lib) = common::radiance_dirs().unwrap();
     let tables = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("genssky_tables");
+    let epw = fixture(&format!("gensdaymtx_{day}.epw"));
+    // The day's AOD (EPW field 30, one value per fixture day), exactly: per-record AODs
+    // are rounded to 0.01, gensdaymtx computed its tables with this value.
+    let text = std::fs::read_to_string(&epw).unwrap();
+    let aod = text.lines().nth(8).unwrap().split(',').nth(29).unwrap();
     let out = common::run_ok(
         common::ours("rspecsky")
             .args(extra)
-            .args(["--model", "atmosphere", "-u", "-m", "1", "-of", "-l"])
+            .args([
+                "--model",
+                "atmosphere",
+                "--aod",
+                aod,
+                "-u",
+                "-m",
+                "1",
+                "-of",
+                "-l",
+            ])
             .arg(lib.join("mie_ca.dat"))
             .arg("-p")
             .arg(&tables)
-            .arg(fixture(&format!("gensdaymtx_{day}.epw"))),
+            .arg(&epw),
         b"",
     );
     let p = dir.join(format!("{day}{}.smx", extra.join("")));

@@ -39,6 +39,11 @@
 //!   light. Here a missing cover is estimated from the Perez clearness `eps` of the record:
 //!   `c = 1 - ln(eps) / ln(6.2)`, clamped to 0..1 (overcast at `eps = 1`, clear from
 //!   Perez's last category, `eps >= 6.2`), a documented modelling choice.
+//! - **Per-record AOD** is rounded to 0.01, so a year needs a few dozen table sets, not one
+//!   per distinct value. gensdaymtx also keeps one table set per 0.01 (its file names
+//!   print the AOD with `%.2f`) but computes it with the first record's exact value that
+//!   falls in the bin, so its sky for a record depends on earlier records; `--aod` gives
+//!   one value for every record (the tests pass each fixture day's exact value).
 //! - **Tables** are cached on disk by every input that changes them (see
 //!   [`super::atmosphere::cache`]); gensdaymtx keeps them in `<-p dir>/atmos_data` under a
 //!   name that leaves out the ground reflectance.
@@ -52,7 +57,7 @@
 //! ## Agreement with gensdaymtx (measured, `tests/spectral_skymtx.rs`)
 //!
 //! Two London IWEC days against real gensdaymtx 6.0a (`-u -m 1`, 16 sun-up hours each;
-//! June 28 with 0-2/10 sky cover, June 8 half cloudy; AOD 0.206 from the EPW; same
+//! June 28 with 0-2/10 sky cover, June 8 half cloudy; AOD 0.206 and 0.204 from the EPW; same
 //! `mie_ca.dat`), every step: sky radiance per band and patch within 0.03 %, patch-summed
 //! sky irradiance per band within 0.02 %, photopic sky, sun and ground within 0.01 %, CCT
 //! of the sky within 1 K. No systematic difference remains: the same model is evaluated
@@ -87,8 +92,9 @@ use std::path::Path;
 const DIFFUSE_FUDGE: f64 = 1.15;
 /// Patches the sun is spread over (gendaymtx's and gensdaymtx's `NSUNPATCH`).
 const NSUNS: usize = 4;
-/// Most distinct (climate, AOD) table sets one run may need before we refuse.
-const MAX_TABLE_SETS: usize = 8;
+/// Most distinct (climate, AOD) table sets one run may need before we refuse (each is
+/// about 20 s of CPU once, then cached).
+const MAX_TABLE_SETS: usize = 64;
 
 /// What one weather record contributes to its column.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -184,7 +190,8 @@ pub fn atmosphere_steps(
                 _ => cloud_cover_from_clearness(v.state.map_or(1.0, |s| s.epsilon)),
             };
             let aod = opts.aod.unwrap_or(match ws.aod {
-                Some(a) if (0.0..9.0).contains(&a) => (a * 1000.0).round() / 1000.0,
+                // 0.01 steps, as gensdaymtx's table cache (module docs).
+                Some(a) if (0.0..9.0).contains(&a) => (a * 100.0).round() / 100.0,
                 _ => super::atmosphere::AOD_CONTINENTAL,
             });
             Some(AtmosphereStep {
