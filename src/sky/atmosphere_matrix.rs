@@ -60,7 +60,12 @@
 //! June 28 with 0-2/10 sky cover, June 8 half cloudy; AOD 0.206 and 0.204 from the EPW; same
 //! `mie_ca.dat`), every step: sky radiance per band and patch within 0.03 %, patch-summed
 //! sky irradiance per band within 0.02 %, photopic sky, sun and ground within 0.01 %, CCT
-//! of the sky within 1 K. No systematic difference remains: the same model is evaluated
+//! of the sky within 1 K. A whole London year (EPW AOD set missing, so 0.115 for both;
+//! winter and summer tables; every cloud cover; 4398 sun-up steps; measured once with
+//! `benches/rspecsky.sh`'s inputs): patch-summed sky-plus-sun radiance per band within
+//! 0.06 % on every step brighter than 1 % of the brightest, year total 4e-7. Cost there:
+//! gensdaymtx 110 s CPU to precompute its two table sets plus 1.4 s for the year; ours
+//! (test profile, opt-level 1) 38 s and 0.6 s. No systematic difference remains: the same model is evaluated
 //! from tables computed with the same quadratures (ours in double precision, stored as
 //! f32; gensdaymtx's in text files). Without `mie_ca.dat` (fallback aerosol profile) the
 //! clear June day's patch-summed sky is within 1.5 % per band at the bright hours and
