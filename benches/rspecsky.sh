@@ -55,3 +55,27 @@ for prog in genssky rspecsky; do
     read -r cw cc < <(measure "${cmd[@]}" "${gs_args[@]}" -p "$tmp/gs_$prog")
     printf "%-22s %-10s %8s %8s\n" "sky (cached tables)" "$prog" "$cw" "$cc"
 done
+
+# A year of physically based spectral sky matrices (MF 1, 20 bands, sun-up hours, float):
+# rspecsky --model atmosphere against gensdaymtx on the same EPW. Both precompute atmosphere
+# tables once per climate (London: summer and winter) and AOD; the first ("cold") run
+# includes that, the second ("warm") reuses the tables. One run each (gensdaymtx takes
+# minutes). gensdaymtx runs with -n $(nproc) threads for its precomputation. The EPW's
+# per-record AODs (field 30) are set missing, so both use one AOD (0.115) and two table
+# sets; with them, gensdaymtx would precompute one set per 0.01 of AOD (dozens, hours).
+awk -F, -v OFS=, 'NR > 8 { $30 = 999 } 1' "$epw" > "$tmp/noaod.epw"
+echo
+printf "%-22s %-10s %8s %8s\n" "year_atmosphere" program wall_s cpu_s
+for prog in gensdaymtx rspecsky; do
+    if [ "$prog" = gensdaymtx ]; then
+        cmd=("$RADIANCE_BIN/gensdaymtx" -n "$(nproc)" -u -m 1 -of -p "$tmp/gm_$prog")
+    else
+        cmd=("$ours" --model atmosphere -u -m 1 -of -l "${RAYPATH##*:}/mie_ca.dat" -p "$tmp/gm_$prog")
+    fi
+    rm -rf "$tmp/gm_$prog" && mkdir -p "$tmp/gm_$prog"
+    for run in cold warm; do
+        /usr/bin/time -f "%e %U %S" -o "$tmp/t" "${cmd[@]}" "$tmp/noaod.epw" > "$tmp/out" 2> "$tmp/err"
+        read -r pw pc < <(awk '{printf "%s %.2f\n", $1, $2 + $3}' "$tmp/t")
+        printf "%-22s %-10s %8s %8s\n" "year ($run tables)" "$prog" "$pw" "$pc"
+    done
+done

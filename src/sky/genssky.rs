@@ -343,7 +343,7 @@ pub struct SpectralSky {
 }
 
 /// CIE overcast zenith radiance (Radiance white units) for the sun at `sun_z`.
-fn overcast_zenith(sun_z: f64) -> f64 {
+pub fn overcast_zenith(sun_z: f64) -> f64 {
     if sun_z < 0.0 {
         0.0
     } else {
@@ -352,7 +352,7 @@ fn overcast_zenith(sun_z: f64) -> f64 {
 }
 
 /// gensky's CIE overcast pattern with the ground blended in near the horizon.
-fn overcast_brightness(dz: f64, zenith: f64) -> f64 {
+pub fn overcast_brightness(dz: f64, zenith: f64) -> f64 {
     let a = (dz + 1.01).powi(10);
     let b = (dz + 1.01).powi(-10);
     let sky = zenith * (1.0 + 2.0 * dz) / 3.0;

@@ -22,6 +22,7 @@
 //! Radiance's visible "white" (luminance / 179).
 
 pub mod atmosphere;
+pub mod atmosphere_matrix;
 pub mod cie;
 pub mod efficacy;
 pub mod gendaylit;

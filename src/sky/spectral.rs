@@ -24,15 +24,17 @@
 //! 6.0a): photopic sums over the sky patches within 1.5 % at the first day's bright hours,
 //! -24 % to +11 % on the second day's (where the sun's share and its patch spreading
 //! differ most); our skies are 3-15 % bluer (380-480 over 680-780 nm: 1.41-1.45 against
-//! 1.20-1.40). Speed: a London year at MF 1 and 18 bands takes 0.3 s CPU here; gensdaymtx
+//! 1.20-1.40). For gensdaymtx's own sky use `--model atmosphere`
+//! ([`super::atmosphere_matrix`]). Speed: a London year at MF 1 and 18 bands takes 0.3 s CPU here; gensdaymtx
 //! needs 0.26 s CPU per day after minutes of atmosphere precomputation per distinct aerosol
 //! depth.
 //!
 //! **Photopic consistency.** Every spectrum is scaled so that its Radiance photopic value
-//! (`179 sum_i v_i A_i`, `A_i` the share of the CIE 1931 ybar area inside band `i`,
-//! Radiance's `scolor_photopic`) equals that of the RGB matrix entry it replaces
+//! (`179 sum_i v_i A_i`, `A_i` the share of the CIE 1931 ybar area inside band `i` from
+//! Radiance's own cumulative observer tables, Radiance's `scolor_photopic`) equals that of the RGB matrix entry it replaces
 //! (`179 (0.2651 R + 0.6701 G + 0.0648 B)`): weighting the spectral matrix photopically
-//! gives rspecsky's photopic matrix (`rmtxop -c Y` of the RGB one), to float rounding.
+//! gives rspecsky's photopic matrix (`rmtxop -c Y` of the RGB one), to float rounding
+//! (real `rmtxop -c Y` of both: 1.2e-7 to 1.8e-7 worst relative, `tests/spectral_sky.rs`).
 //! With Radiance's channel convention (a band value is the spectral radiance times the full
 //! range, so equal-energy white is 1 in every band) the result feeds `rcontrib -cs N`
 //! coefficients and `rmtx`/`rcomb` directly.
@@ -41,9 +43,9 @@ use super::matrix::{Colours, MatrixOptions};
 use super::patches::SkyPatches;
 use super::perez::{SkyVector, TimeStep, perez_sky_vector};
 use super::solar::Site;
-use crate::material::spectrum::band_integrals;
+use crate::material::spectrum::{Curve, band_integrals, spec_dot};
 use crate::radiometry::{Channels, RGB_PHOTOPIC};
-use crate::uplift::colorimetry::{WL_MAX, WL_MIN, daylight, tables};
+use crate::uplift::colorimetry::daylight;
 use rayon::prelude::*;
 
 /// CCT (K) of the diffuse sky for Perez clearness `epsilon` (see the module table).
@@ -58,13 +60,21 @@ pub fn sun_cct(altitude: f64) -> f64 {
     4000.0 + t * (5800.0 - 4000.0)
 }
 
-/// The share of the photopic (ybar) area in each band: Radiance's `A_i`.
+/// The share of the photopic (ybar) area in each band: Radiance's `A_i`, from Radiance's
+/// own cumulative observer tables and band-edge truncation
+/// ([`crate::material::spectrum::spec_dot`] with [`Curve::Y`], what `scolor_photopic` and
+/// `rmtxop -c Y` use), so that `rmtx -c Y` of a spectral matrix equals the photopic value
+/// of the RGB matrix it was scaled to (a 5 nm integration of the CIE tables differs from
+/// Radiance's by up to 0.4 % per band set).
 pub fn photopic_shares(ch: &Channels) -> Vec<f64> {
-    let ybar = &tables().cmf[1];
-    let full = Channels::spectral(ch.ncomp.max(3), WL_MIN, WL_MAX)
-        .map(|c| band_integrals(ybar, &c).iter().sum::<f64>())
-        .unwrap_or(1.0);
-    band_integrals(ybar, ch).iter().map(|a| a / full).collect()
+    let mut e = vec![0.0; ch.ncomp];
+    (0..ch.ncomp)
+        .map(|i| {
+            e.iter_mut().for_each(|x| *x = 0.0);
+            e[i] = 1.0;
+            spec_dot(&e, ch, Curve::Y)
+        })
+        .collect()
 }
 
 /// Band means of CIE daylight of `cct`, scaled to unit Radiance photopic value
