@@ -17,6 +17,11 @@
 //!   so gendaylit skies can be evaluated natively.
 //! - [`matrix`]: gendaymtx's time-series sky matrix (weather file to patch x time steps).
 //! - [`pointsky`]: a point-in-time gendaylit sky as Radiance scene text, with glow sources.
+//! - [`spectral`]: spectral sky matrices (Perez with CIE daylight spectra).
+//! - [`atmosphere`]: Bruneton's precomputed atmospheric scattering with genssky's tables
+//!   (cached on disk); [`genssky`]: the point-in-time spectral sky and sun genssky writes;
+//!   [`atmosphere_matrix`]: gensdaymtx's physically based spectral sky matrices.
+//! - [`specpict`]: the `specpict` sky picture of genssky, evaluated natively.
 //!
 //! Coordinates everywhere: +X east, +Y north, +Z zenith; radiance in W sr^-1 m^-2 of
 //! Radiance's visible "white" (luminance / 179).
