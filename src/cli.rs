@@ -46,8 +46,11 @@ pub fn stdout_is_file() -> bool {
 }
 
 /// A temporary name beside `path` (same directory, so a rename replaces it atomically):
-/// `.name.PID.part`.
+/// `.name.PID.N.part`, N counting the calls in this process, so threads writing the same
+/// target (e.g. two tests filling one cache) never share a temporary file.
 pub fn temp_beside(path: &std::path::Path) -> std::path::PathBuf {
+    static CALLS: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+    let n = CALLS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
     let dir = path
         .parent()
         .filter(|p| !p.as_os_str().is_empty())
@@ -56,7 +59,7 @@ pub fn temp_beside(path: &std::path::Path) -> std::path::PathBuf {
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_default();
-    dir.join(format!(".{name}.{}.part", std::process::id()))
+    dir.join(format!(".{name}.{}.{n}.part", std::process::id()))
 }
 
 /// Write a file atomically: the data goes to a temporary file beside the target which is
