@@ -7,7 +7,7 @@ use rdaylight::Error;
 use rdaylight::calib::cases::{self, Climate, RoomKind};
 use rdaylight::calib::compare::{Comparison, compare};
 use rdaylight::calib::effects::Effect;
-use rdaylight::calib::explain::{Explanation, explain};
+use rdaylight::calib::explain::{Explanation, explain, refined, simulate_applied};
 use rdaylight::calib::measurements::{Measurements, write_csv};
 use rdaylight::calib::model::Model;
 use rdaylight::calib::room::parse_classes;
@@ -128,6 +128,13 @@ struct SimArgs {
     /// Path weight limit (Radiance -lw).
     #[arg(long = "lw", default_value_t = Settings::model().lw)]
     lw: f64,
+    /// Sample each sensor until its relative standard error is below this (rdc
+    /// --target-se --se-row; 0: exactly -ad samples, as Radiance).
+    #[arg(long = "target-se", default_value_t = Settings::model().target_se.unwrap_or(0.0))]
+    target_se: f64,
+    /// Cap on samples per sensor with --target-se.
+    #[arg(long = "max-samples", default_value_t = Settings::model().max_samples)]
+    max_samples: usize,
     /// Reinhart sky subdivision (gendaymtx -m; 1 = Tregenza).
     #[arg(short = 'm', default_value_t = 1)]
     mf: usize,
@@ -155,6 +162,8 @@ impl SimArgs {
                 lw: self.lw,
                 mf: self.mf,
                 seed: self.seed,
+                target_se: (self.target_se > 0.0).then_some(self.target_se),
+                max_samples: self.max_samples,
             },
             cache: (!self.no_cache).then(|| self.cache.clone()),
             classes: match &self.classes {
@@ -213,6 +222,10 @@ struct ExplainArgs {
     /// (empty when nothing significant is missing).
     #[arg(long)]
     effects_out: Option<PathBuf>,
+    /// Rounds of refinement: apply the kept effects, re-simulate, and fit them again with
+    /// the coefficient model corrected by that re-simulation (0: none).
+    #[arg(long, default_value_t = cases::REFINE_ROUNDS)]
+    refine: usize,
     #[arg(long)]
     report: Option<PathBuf>,
     #[arg(long)]
@@ -275,6 +288,12 @@ struct SynthArgs {
     /// With --spectral: keep only these sensors of the room (1-based, comma separated).
     #[arg(long)]
     keep: Option<String>,
+    /// Simulate the readings with the simulation options below as given. Without it they
+    /// come from converged settings (-ab 12 -ad 1024 -lw 2e-5 --target-se 0.005
+    /// --max-samples 262144 -s 7), so that their only error is the sensor noise; -m,
+    /// --cache and --classes apply either way.
+    #[arg(long)]
+    as_model: bool,
     #[command(flatten)]
     sim: SimArgs,
 }
@@ -395,6 +414,9 @@ fn cmd_explain(a: ExplainArgs) -> Result<(), Error> {
     }
     let fam_refs: Vec<&str> = fams.iter().map(String::as_str).collect();
     let ex = explain(&m, &fam_refs, a.sensor_sigma);
+    let ex = refined(&m, ex, a.sensor_sigma, a.refine, &|e| {
+        simulate_applied(&l.scene, &m, &l.weather, &l.readings, &opts, e)
+    })?;
     print!("{}", report::explain_summary(&ex));
     if !ex.specs.is_empty() {
         println!(
@@ -545,7 +567,13 @@ fn cmd_synth(a: SynthArgs) -> Result<(), Error> {
         .iter()
         .map(|s| Effect::parse(s, &ids, &wids))
         .collect::<Result<Vec<_>, _>>()?;
-    let opts = a.sim.options(false)?;
+    let mut opts = a.sim.options(false)?;
+    if !a.as_model {
+        opts.settings = Settings {
+            mf: opts.settings.mf,
+            ..Settings::truth()
+        };
+    }
     if a.spectral {
         return synth_spectral(&a, kind, climate, weather, &scene, sensors, hidden, &opts);
     }

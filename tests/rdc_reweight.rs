@@ -344,3 +344,66 @@ fn sun_coefficients_through_tracked_glass_scale_linearly() {
         }
     }
 }
+
+#[test]
+fn suns_ab_reweighted_walls_equal_retracing_without_roulette() {
+    // `--suns-ab` records each sun's next-event estimate with the path's tracked bounces
+    // plus the vertex's own. Without roulette (-lw 0) a matte room's paths do not depend
+    // on the walls' reflectance, so re-tracing the room with the walls at 0.8 x follows
+    // the very same paths: the re-weighted coefficients must equal it to rounding.
+    let dir = tmpdir();
+    let scene = write(dir.path(), "room.rad", &room(0.5));
+    let darker = write(dir.path(), "darker.rad", &room(0.4));
+    let rw = dir.path().join("suns.rw");
+    let args = |scene: &str, extra: &[&str]| -> Vec<f64> {
+        let mut a = vec![
+            "-I",
+            "--suns",
+            "1",
+            "--suns-ab",
+            "-ab",
+            "4",
+            "-ad",
+            "256",
+            "-lw",
+            "0",
+            "-fad",
+            "-s",
+            "5",
+        ];
+        a.extend_from_slice(extra);
+        a.push(scene);
+        matrix(&run_ok(ours("rdc").args(&a), SENSORS.as_bytes())).data
+    };
+    let base = args(
+        &scene,
+        &[
+            "--reweight",
+            rw.to_str().unwrap(),
+            "--reweight-materials",
+            "wall",
+        ],
+    );
+    let retraced = args(&darker, &[]);
+    let r = Reweighting::read(rw.to_str().unwrap()).unwrap();
+    let one = r.apply(&[1.0]).unwrap();
+    let scaled = r.apply(&[0.8]).unwrap();
+    let (mut moved, mut worst) = (0.0f64, 0.0f64);
+    for ((b, o), (s, t)) in base.iter().zip(&one).zip(scaled.iter().zip(&retraced)) {
+        assert!((b - o).abs() <= 1e-12 * b.abs().max(1e-12), "{b} vs {o}");
+        assert!(
+            (s - t).abs() <= 1e-5 * t.abs().max(1e-12),
+            "re-weighted {s} vs re-traced {t}"
+        );
+        if *b > 0.0 {
+            moved = moved.max(1.0 - s / b);
+            worst = worst.max((s - t).abs() / t.abs().max(1e-300));
+        }
+    }
+    eprintln!(
+        "walls x 0.8: up to {:.1} % less sun light; worst difference {worst:.1e}",
+        100.0 * moved
+    );
+    // The walls matter: the back of the room loses light with them.
+    assert!(moved > 0.05, "{moved}");
+}

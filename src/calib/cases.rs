@@ -555,6 +555,9 @@ pub fn hidden_effects(kind: RoomKind) -> Vec<(String, Vec<Effect>)> {
         .collect()
 }
 
+/// Rounds of [`super::explain::refine`] in [`evaluate`] (as `rcalib explain`'s default).
+pub const REFINE_ROUNDS: usize = 2;
+
 /// What the hit-rate table records of one case.
 #[derive(Debug, Clone, serde::Serialize)]
 pub struct Outcome {
@@ -571,8 +574,12 @@ pub struct Outcome {
     pub rmse_before: f64,
     /// After applying the selected effects to the model and re-simulating with rdc.
     pub rmse_after: f64,
-    /// The truth model simulated at the model's settings against the readings.
+    /// Noise-only error: RMSE_rel of the readings against the noise-free truth values they
+    /// were made from (the sensor noise alone; a perfect model simulated without error).
     pub rmse_noise: f64,
+    /// The simulation's own error: RMSE_rel (percent) of the truth scene simulated at the
+    /// model's settings against the noise-free truth values (converged settings).
+    pub rmse_sim: f64,
     /// Apply fidelity: RMSE_rel (percent) of what the fitted effects predicted
     /// ([`Model::predict`]) against the re-simulation of the applied model.
     pub rmse_fit_vs_apply: f64,
@@ -628,9 +635,12 @@ pub fn evaluate(case: &Case, opts: &Options, sigma_sensor: f64) -> Result<Outcom
         ..opts.clone()
     };
     let m = case.model(&case.model_text, &with_refl)?;
-    let ex = super::explain::explain(&m, &[], sigma_sensor);
-    let effects: Vec<Effect> = ex.selected.iter().map(|c| c.effect.clone()).collect();
     let model = case.model_scene()?;
+    let ex = super::explain::explain(&m, &[], sigma_sensor);
+    let ex = super::explain::refined(&m, ex, sigma_sensor, REFINE_ROUNDS, &|e| {
+        super::explain::simulate_applied(&model, &m, &case.weather, &case.readings, opts, e)
+    })?;
+    let effects: Vec<Effect> = ex.selected.iter().map(|c| c.effect.clone()).collect();
     let room = room_of(&model, &case.sensors);
     let text = super::apply::apply(&model, &room, &case.sensors, &effects, "evaluation")?;
     let after_model = case.model(&text, opts)?;
@@ -663,8 +673,26 @@ pub fn evaluate(case: &Case, opts: &Options, sigma_sensor: f64) -> Result<Outcom
         .filter(|e| matches!(e, Effect::SensorFault { .. }))
         .cloned()
         .collect();
+    // The truth re-simulated at the model's settings: the best any fit can do through
+    // this simulation (shown beside the worst readings).
     let truth_sim = truth.predict(&hidden_faults);
-    let rmse_noise = rmse(&truth, &truth_sim);
+    let rmse_noise = {
+        let pairs: Vec<(f64, f64)> = case
+            .truth_values
+            .iter()
+            .zip(&m.obs)
+            .map(|(t, o)| (*t, o.value))
+            .collect();
+        super::stats::Stats::of(&pairs).rmse_rel
+    };
+    let rmse_sim = {
+        let pairs: Vec<(f64, f64)> = truth_sim
+            .iter()
+            .zip(&case.truth_values)
+            .map(|(y, t)| (*y, *t))
+            .collect();
+        super::stats::Stats::of(&pairs).rmse_rel
+    };
     let mut order: Vec<usize> = (0..after_sim.len()).collect();
     let err = |i: usize| (after_sim[i] / m.obs[i].value.max(1.0) - 1.0).abs();
     order.sort_by(|a, b| err(*b).total_cmp(&err(*a)));
@@ -709,6 +737,7 @@ pub fn evaluate(case: &Case, opts: &Options, sigma_sensor: f64) -> Result<Outcom
         rmse_before: ex.base.rmse_rel,
         rmse_after,
         rmse_noise,
+        rmse_sim,
         rmse_fit_vs_apply,
         worst,
         seconds: t0.elapsed().as_secs_f64(),

@@ -10,6 +10,13 @@
 //!    (and the kept ones re-fitted given each other), until nothing significant is left or
 //!    [`MAX_EFFECTS`] are kept. When the first step finds nothing, the report says "no
 //!    significant missing effect" and gives the residual noise levels.
+//! 4. [`refine`]: the coefficient model's effects are approximations (an overhang or an
+//!    obstruction changes where the sun lands inside, not only what enters; a glazing
+//!    scale is applied per sky direction). The kept effects are applied to the model as
+//!    `rcalib apply` writes them, re-simulated, and the ratio of that re-simulation to the
+//!    coefficient model's prediction of it becomes a per-reading correction under which
+//!    the kept effects are fitted again (a defect-correction step). In the hidden-effect
+//!    tests this moves, e.g., a glazing scale fitted at 0.734 for a true 0.70 to the truth.
 
 use super::effects::{self, Effect, FAMILIES};
 use super::fit::{Fitter, without};
@@ -159,7 +166,7 @@ fn candidate(
 ) -> Candidate {
     let mut all = base.to_vec();
     all.push(e.clone());
-    let sim = f.m.predict(&all);
+    let sim = f.predict(&all);
     let after = stats_of(f.m, &sim);
     let k: usize = all.iter().map(Effect::n_params).sum();
     let bic = f.score_sim(&sim).bic(k);
@@ -252,7 +259,36 @@ pub fn explain(m: &Model, families: &[&str], sigma_sensor: f64) -> Explanation {
     }
     let final_score = f.score_sim(&cur_sim);
     let final_stats = stats_of(m, &cur_sim);
-    let verdict = if chosen.is_empty() {
+    let base = stats_of(m, &base_sim);
+    let verdict = verdict(
+        &selected,
+        &base,
+        &base_score,
+        &final_stats,
+        &final_score,
+        sigma_sensor,
+    );
+    Explanation {
+        base,
+        base_score,
+        specs: selected.iter().map(|c| c.spec.clone()).collect(),
+        ranking,
+        selected,
+        final_stats,
+        final_score,
+        verdict,
+    }
+}
+
+fn verdict(
+    selected: &[Candidate],
+    base: &Stats,
+    base_score: &Score,
+    final_stats: &Stats,
+    final_score: &Score,
+    sigma_sensor: f64,
+) -> String {
+    if selected.is_empty() {
         format!(
             "no significant missing effect: the residual is at the noise level \
              ({:.1} % per reading, {:.1} % per sensor assumed)",
@@ -267,19 +303,130 @@ pub fn explain(m: &Model, families: &[&str], sigma_sensor: f64) -> Explanation {
                 .map(|c| c.description.clone())
                 .collect::<Vec<_>>()
                 .join("; "),
-            stats_of(m, &base_sim).rmse_rel,
+            base.rmse_rel,
             final_stats.rmse_rel,
             100.0 * final_score.sigma_reading,
         )
-    };
-    Explanation {
-        base: stats_of(m, &base_sim),
-        base_score,
-        specs: selected.iter().map(|c| c.spec.clone()).collect(),
-        ranking,
-        selected,
-        final_stats,
-        final_score,
-        verdict,
     }
+}
+
+/// Step 4 of the module documentation: re-fit the kept effects of `ex` under the
+/// per-reading correction `exact / predicted`, where `exact` is the re-simulation of the
+/// model with those effects applied (sensor faults as factors on it, as in
+/// [`Model::predict`]) and `predicted` the coefficient model's value for the same effects.
+/// Two coordinate passes; the ranking is kept as it was.
+pub fn refine(m: &Model, ex: &Explanation, exact: &[f64], sigma_sensor: f64) -> Explanation {
+    let mut chosen: Vec<Effect> = ex.selected.iter().map(|c| c.effect.clone()).collect();
+    if chosen.is_empty() || exact.len() != m.obs.len() {
+        return ex.clone();
+    }
+    // The factor on the inter-reflected part that turns the prediction into the
+    // re-simulation: exact = cal tau (ind k + local dir) (see Model::finish).
+    let w = m.weights(&chosen);
+    let parts = m.parts(&w);
+    let corr: Vec<f64> = m
+        .obs
+        .iter()
+        .zip(&parts)
+        .zip(exact)
+        .map(|((o, &(ind, dir)), x)| {
+            let scale = w.cal[o.sensor] * w.tau;
+            let k = (x / scale - w.local[o.sensor] * dir) / ind;
+            if scale > 0.0 && ind > 1e-9 && k.is_finite() {
+                k.clamp(0.2, 5.0)
+            } else {
+                1.0
+            }
+        })
+        .collect();
+    let f = Fitter::new(m, sigma_sensor).with_correction(corr);
+    for _ in 0..2 {
+        for i in 0..chosen.len() {
+            let fam = chosen[i].family();
+            let others = without(&chosen, fam);
+            if let Some(e) = fit_family(&f, &others, fam) {
+                chosen[i] = e;
+            }
+        }
+    }
+    let ids: Vec<String> = m.sensors.iter().map(|s| s.id.clone()).collect();
+    let windows: Vec<String> = m.room.windows.iter().map(|w| w.id.clone()).collect();
+    let mut out = ex.clone();
+    for (i, (c, e)) in out.selected.iter_mut().zip(&chosen).enumerate() {
+        c.effect = e.clone();
+        c.spec = e.spec(&ids, &windows);
+        c.description = e.describe(&ids, &windows);
+        let (p, v) = e.primary();
+        c.parameter = p.to_string();
+        c.value = v;
+        c.uncertainty = f.uncertainty(&chosen, i, step_for(e));
+    }
+    let sim = f.predict(&chosen);
+    out.final_score = f.score_sim(&sim);
+    out.final_stats = stats_of(m, &sim);
+    out.specs = out.selected.iter().map(|c| c.spec.clone()).collect();
+    out.verdict = verdict(
+        &out.selected,
+        &out.base,
+        &out.base_score,
+        &out.final_stats,
+        &out.final_score,
+        sigma_sensor,
+    );
+    out
+}
+
+/// [`refine`] `rounds` times, each against `simulate(effects)`: the re-simulated readings
+/// of the model with `effects` applied (see [`simulate_applied`]). Nothing to refine when
+/// only sensor factors are kept.
+pub fn refined(
+    m: &Model,
+    ex: Explanation,
+    sigma_sensor: f64,
+    rounds: usize,
+    simulate: &dyn Fn(&[Effect]) -> crate::error::Result<Vec<f64>>,
+) -> crate::error::Result<Explanation> {
+    let mut ex = ex;
+    for _ in 0..rounds {
+        let effects: Vec<Effect> = ex.selected.iter().map(|c| c.effect.clone()).collect();
+        if effects
+            .iter()
+            .all(|e| matches!(e, Effect::SensorFault { .. }))
+        {
+            break;
+        }
+        let exact = simulate(&effects)?;
+        ex = refine(m, &ex, &exact, sigma_sensor);
+    }
+    Ok(ex)
+}
+
+/// The readings of `scene` with `effects` applied as `rcalib apply` writes them
+/// (geometry and materials re-simulated with `opts`; sensor faults as factors on the
+/// simulation, as [`Model::predict`] applies them).
+pub fn simulate_applied(
+    scene: &crate::scene::Scene,
+    m: &Model,
+    weather: &crate::formats::weather::Weather,
+    readings: &[super::measurements::Bound],
+    opts: &super::session::Options,
+    effects: &[Effect],
+) -> crate::error::Result<Vec<f64>> {
+    let (faults, geometric): (Vec<Effect>, Vec<Effect>) = effects
+        .iter()
+        .cloned()
+        .partition(|e| matches!(e, Effect::SensorFault { .. }));
+    let text = super::apply::apply(scene, &m.room, &m.sensors, &geometric, "refinement")?;
+    let applied = crate::scene::parse_str(
+        &text,
+        "<applied>",
+        std::path::Path::new(""),
+        &crate::scene::LoadOptions::default(),
+    )?;
+    let opts = super::session::Options {
+        reflectance: false,
+        ..opts.clone()
+    };
+    let am = super::session::build(&applied, m.sensors.clone(), weather, readings, &opts)?;
+    Ok(am.predict(&faults))
 }

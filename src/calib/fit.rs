@@ -16,6 +16,13 @@ pub struct Fitter<'a> {
     pub sensor: Vec<usize>,
     /// Assumed per-sensor spread (see [`super::score`]).
     pub sigma_sensor: f64,
+    /// Per-reading factor on the inter-reflected part of every prediction
+    /// ([`super::explain::refine`]: what makes the coefficient model's prediction of the
+    /// applied effects equal a re-simulation of them). The direct part is left as the
+    /// model computes it: it is exact geometry, and an effect that blocks direct light
+    /// (overhang, obstruction) switches it on and off from one parameter value to the next,
+    /// which a fixed factor would freeze.
+    pub correction: Option<Vec<f64>>,
 }
 
 impl<'a> Fitter<'a> {
@@ -25,7 +32,36 @@ impl<'a> Fitter<'a> {
             sigma_sensor,
             meas: m.measured(),
             sensor: m.obs.iter().map(|o| o.sensor).collect(),
+            correction: None,
         }
+    }
+
+    /// [`Fitter::new`] with the inter-reflected part of predictions multiplied by
+    /// `correction` (one factor a reading).
+    pub fn with_correction(mut self, correction: Vec<f64>) -> Fitter<'a> {
+        self.correction = Some(correction);
+        self
+    }
+
+    /// Simulated readings from parts and weights, the correction applied.
+    pub fn finish(&self, parts: &[(f64, f64)], w: &Weights) -> Vec<f64> {
+        match &self.correction {
+            Some(c) => {
+                let p: Vec<(f64, f64)> = parts
+                    .iter()
+                    .zip(c)
+                    .map(|(&(ind, dir), k)| (ind * k, dir))
+                    .collect();
+                self.m.finish(&p, w)
+            }
+            None => self.m.finish(parts, w),
+        }
+    }
+
+    /// Simulated readings with `effects` applied ([`Model::predict`] with the correction).
+    pub fn predict(&self, effects: &[Effect]) -> Vec<f64> {
+        let w = self.m.weights(effects);
+        self.finish(&self.m.parts(&w), &w)
     }
 
     /// Score of simulated readings.
@@ -41,7 +77,7 @@ impl<'a> Fitter<'a> {
 
     /// Score of a list of effects.
     pub fn score(&self, effects: &[Effect]) -> Score {
-        self.score_sim(&self.m.predict(effects))
+        self.score_sim(&self.predict(effects))
     }
 
     /// BIC of a list of effects (k = their parameters).
@@ -52,7 +88,7 @@ impl<'a> Fitter<'a> {
 
     /// -2 ln L from precomputed parts and final weights.
     pub fn m2ll_parts(&self, parts: &[(f64, f64)], w: &Weights) -> f64 {
-        self.score_sim(&self.m.finish(parts, w)).m2ll
+        self.score_sim(&self.finish(parts, w)).m2ll
     }
 
     /// -2 ln L of `e` added to precomputed weights `w0` of the other effects (fits call

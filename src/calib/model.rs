@@ -11,7 +11,7 @@
 
 use super::effects::{self, Effect};
 use super::measurements::Bound;
-use super::room::{Room, SurfaceClass, scaled_scene};
+use super::room::{Room, SurfaceClass};
 use super::simulate::{Components, Dcs, StepSky, Tracer};
 use crate::error::Result;
 use crate::formats::sensors::Sensor;
@@ -109,7 +109,12 @@ impl Model {
             // of paths even where the cached `total` was traced by another tracer version.
             let (scaled, _none) =
                 tracer.dc_scaled(scene, &room, &classes, &[1.0 - DELTA, 1.0, 1.0 + DELTA])?;
-            for (&class, v) in classes.iter().zip(scaled) {
+            // The inter-reflected sun: the sun paths re-weighted the same way (one run for
+            // every class), so its sensitivities are as free of Monte Carlo noise as the
+            // sky's.
+            let (sun_scaled, _) =
+                tracer.sun_scaled(scene, &room, &classes, &[1.0 - DELTA, 1.0, 1.0 + DELTA])?;
+            for ((&class, v), vs) in classes.iter().zip(scaled).zip(sun_scaled) {
                 let [lo, mid, hi]: [Vec<f64>; 3] = v.try_into().map_err(|_| {
                     crate::error::Error::Mismatch("re-weighting: three variants expected".into())
                 })?;
@@ -123,30 +128,23 @@ impl Model {
                     )
                     .sky
                 };
-                // The inter-reflected sun: Vsun re-traced on the scene with the class
-                // scaled, with the same per-step seeds as the model's own Vsun. Rdc's
-                // re-weighting does not cover point-in-time values, and the sky patches
-                // around the sun are a poor stand-in for the sun's own paths (they land
-                // elsewhere and carry a few paths each). With diffuse materials and
-                // weights far above -lw the re-traced paths are the same paths, so the
-                // differences are free of Monte Carlo noise.
-                let sun_ind = |k: f64| -> Result<Vec<f64>> {
-                    let sc = scaled_scene(scene, &room, &[(class, k)], 1.0);
-                    let vs = tracer.sun_total_of(&sc)?;
-                    Ok(Components::new(
+                let [vs_lo, vs_mid, vs_hi]: [Vec<f64>; 3] = vs.try_into().map_err(|_| {
+                    crate::error::Error::Mismatch("re-weighting: three variants expected".into())
+                })?;
+                let sun_ind = |sun_total: Vec<f64>| {
+                    Components::new(
                         &Dcs {
-                            sun_total: vs,
+                            sun_total,
                             ..dcs.clone()
                         },
                         &skies,
                     )
-                    .sun_indirect)
+                    .sun_indirect
                 };
-                let (s_lo, s_hi) = (sun_ind(1.0 - DELTA)?, sun_ind(1.0 + DELTA)?);
                 refl.push(sensitivity(
                     class,
                     (&sky(lo), &sky(mid), &sky(hi)),
-                    (&s_lo, &comps.sun_indirect, &s_hi),
+                    (&sun_ind(vs_lo), &sun_ind(vs_mid), &sun_ind(vs_hi)),
                 ));
             }
         }

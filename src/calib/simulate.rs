@@ -11,11 +11,12 @@
 //! - `DC`: sky coefficients (`rdc -I -m MF`), all bounces; `DCd`: direct-only ones
 //!   (`--direct`, used by the effects that block direct light); `Cds`: the sun of each
 //!   measured step as a disc (`--suns steps.wea`, direct only, deterministic).
-//! - `Vsun`: the light of a unit-radiance sun disc at that step's position with all bounces
-//!   (an `rdc -I` point-in-time run on the scene plus a `source`, `-dj 0`): the five-phase
-//!   method's sun coefficients with inter-reflection. Spreading the sun over sky patches
-//!   and subtracting direct-only from total coefficients instead (the DDS shortcut) leaves
-//!   the Monte Carlo noise of a few samples per patch in the sun term: tens of percent.
+//! - `Vsun`: the light of unit-radiance sun discs at the steps' positions with all bounces
+//!   (`rdc --suns steps.wea --suns-ab`: every surface a sensor's path meets looks at every
+//!   step's sun), the five-phase method's sun coefficients with inter-reflection. Spreading
+//!   the sun over sky patches and subtracting direct-only from total coefficients instead
+//!   (the DDS shortcut) leaves the Monte Carlo noise of a few samples per patch in the sun
+//!   term: tens of percent.
 //! - `sky(t)`: the gendaymtx Perez sky without the sun (ground patch with reflectance 0.2);
 //!   `L_sun`: the radiance of a 0.533 degree disc (gendaymtx -5).
 //! - RGB irradiance to lux: 179 x (0.265 R + 0.670 G + 0.065 B) (`rmtxop -c 47.4 119.9 11.6`).
@@ -23,6 +24,14 @@
 //! The per-patch terms are kept apart ([`Components`]) because the effects of
 //! [`super::effects`] act on them: an exterior obstruction blocks sky patches and suns, an
 //! overhang blocks the direct part per sensor, a reflectance change alters `DC` and `Vsun`.
+//! Sampling ([`Settings::model`]): each sensor is sampled until its row (the sensor under a
+//! uniform sky; all suns together) is known to 1 % (`rdc --target-se 0.01 --se-row`), so
+//! the back of a deep room gets the samples it needs and the window sensors do not waste
+//! them; bounces end by Russian roulette rather than at a small `-ab`. Against converged
+//! runs the model's values are within 1-2 % RMS (10 m deep room), below the 3-4 % of
+//! real sensors. Reflectance variants of both the sky coefficients and `Vsun` come from one
+//! re-weighted run each ([`Tracer::dc_scaled`], [`Tracer::sun_scaled`]).
+//!
 //! Coefficients are cached on disk ([`super::cache`]): a re-run traces nothing.
 
 use super::cache;
@@ -54,7 +63,8 @@ pub const LUX_RGB: [f64; 3] = [
     WHITE_EFFICACY * RGB_PHOTOPIC_ROUNDED[2],
 ];
 
-/// Sampling settings of the coefficient runs (Radiance's letters).
+/// Sampling settings of the coefficient runs (Radiance's letters; `target_se` and
+/// `max_samples` are rdc's `--target-se --se-row` and `--max-samples`).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Settings {
     pub ab: u32,
@@ -63,34 +73,54 @@ pub struct Settings {
     /// Reinhart subdivision of the sky patches (1 = Tregenza, 146 columns).
     pub mf: usize,
     pub seed: u64,
+    /// Relative standard error each sensor's row is sampled to (batches of `ad`): the
+    /// sensor under a uniform sky for sky coefficients, its value for `Vsun`.
+    pub target_se: Option<f64>,
+    /// Cap on samples per sensor with `target_se`.
+    pub max_samples: usize,
 }
 
 impl Settings {
-    /// The default for the model under calibration (-ab 5 -ad 2048 -lw 1e-4 -m 1): enough
-    /// bounces that deep sensors are not biased low (-ab 3 is about 10 % low in side-lit
-    /// rooms, BENCHMARKING.md, which explain would read as too-dark surfaces), few samples;
-    /// with the cache, re-runs are instant.
+    /// The model under calibration: `-ab 10 -ad 1024 -lw 5e-5`, each sensor sampled until
+    /// its relative standard error is 1 % (at most 64 batches).
+    ///
+    /// Why these: the calibration can be no better than the simulation, and the readings
+    /// carry ~3.6 % sensor noise, so the simulation's own error must stay well below that
+    /// at every sensor. A fixed `-ad` leaves the back of a deep room (which sees the
+    /// window through a few percent of its hemisphere) at 10-20 % noise, and `-ab 5`
+    /// leaves it 5-11 % low (measured in the 10 m deep test room against -ab 12 with
+    /// 131072 samples); the per-sensor target spends the samples where they are needed,
+    /// and `-lw` at 5 % of the starting weight 1/`-ad` ends paths by roulette (unbiased)
+    /// instead of at a fixed bounce count. With `-lw` above 1/`-ad` (Radiance's meaning:
+    /// ambient samples start at weight 1/`-ad`) every path is rouletted at its first
+    /// bounce and more samples stop helping.
     pub fn model() -> Settings {
         Settings {
-            ab: 5,
-            ad: 2048,
-            lw: 1e-4,
+            ab: 10,
+            ad: 1024,
+            lw: 5e-5,
             mf: 1,
             seed: 1,
+            target_se: Some(0.01),
+            max_samples: 64 * 1024,
         }
     }
-    /// Settings for synthetic "truth" measurements (-ab 6 -ad 4096 -lw 1e-5, another seed).
+    /// Settings for synthetic "truth" measurements: converged (0.5 % per sensor, more
+    /// bounces, another seed), so that the readings' error is the sensor noise alone.
+    /// Against 0.3 % and `-ab 14` the deep test room's values differ by 0.2 % RMS.
     pub fn truth() -> Settings {
         Settings {
-            ab: 6,
-            ad: 4096,
-            lw: 1e-5,
+            ab: 12,
+            ad: 1024,
+            lw: 2e-5,
             mf: 1,
             seed: 7,
+            target_se: Some(0.005),
+            max_samples: 256 * 1024,
         }
     }
     fn args(&self) -> Vec<String> {
-        [
+        let mut a = vec![
             "-ab".to_string(),
             self.ab.to_string(),
             "-ad".into(),
@@ -99,8 +129,17 @@ impl Settings {
             self.lw.to_string(),
             "-s".into(),
             self.seed.to_string(),
-        ]
-        .to_vec()
+        ];
+        if let Some(t) = self.target_se {
+            a.extend([
+                "--target-se".to_string(),
+                t.to_string(),
+                "--se-row".into(),
+                "--max-samples".into(),
+                self.max_samples.to_string(),
+            ]);
+        }
+        a
     }
 }
 
@@ -208,8 +247,6 @@ pub struct Tracer {
     /// `.wea` of the measured steps.
     suns_wea: String,
     nsteps: usize,
-    /// Unit vectors to the sun of each measured step (`None` while it is down).
-    sun_dirs: Vec<Option<[f64; 3]>>,
 }
 
 impl Drop for Tracer {
@@ -229,10 +266,6 @@ impl Tracer {
         skies: &[StepSky],
     ) -> Result<Tracer> {
         let nsteps = skies.len();
-        let sun_dirs = skies
-            .iter()
-            .map(|s| (s.sun_altitude_deg > 0.0 && s.sun_radiance > 0.0).then_some(s.sun_dir))
-            .collect();
         let (work, own_work) = match &cache {
             Some(c) => (c.clone(), false),
             None => {
@@ -254,7 +287,6 @@ impl Tracer {
             rays: sensors.iter().map(|s| s.ray).collect(),
             suns_wea,
             nsteps,
-            sun_dirs,
         })
     }
 
@@ -264,17 +296,7 @@ impl Tracer {
         self.run_with(&self.settings, scene_text, kind)
     }
 
-    /// [`Tracer::run`] with step `t`'s own seed (the per-step seeds of `Vsun`; the spectral
-    /// `Vsun` uses the same, so photopic and spectral runs follow the same paths).
-    pub fn run_for_step(&self, t: usize, scene_text: &str, kind: &[&str]) -> Result<Vec<f64>> {
-        let seeded = Settings {
-            seed: self.settings.seed.wrapping_add(1000 + t as u64),
-            ..self.settings.clone()
-        };
-        self.run_with(&seeded, scene_text, kind)
-    }
-
-    /// [`Tracer::run`] with other sampling settings (the per-step seeds of `Vsun`).
+    /// [`Tracer::run`] with other sampling settings.
     fn run_with(&self, settings: &Settings, scene_text: &str, kind: &[&str]) -> Result<Vec<f64>> {
         let settings_key = format!("{settings:?}");
         let kinds = kind.join(" ");
@@ -382,39 +404,22 @@ impl Tracer {
         self.sun_total(&scene.to_string())
     }
 
-    /// `Vsun`: per step, the scene plus a unit-radiance sun `source` at the step's position,
-    /// point-in-time irradiance with all bounces (`-dj 0`: the disc's centre, as `Cds`).
+    /// `Vsun`: the measured steps' suns as unit-radiance discs with every bounce
+    /// (`rdc --suns steps.wea --suns-ab`: at each surface a path meets, next-event
+    /// estimation towards every step's sun), `[s][t][c]`. One set of paths serves every
+    /// step, so each sensor is sampled to the run's target once for all of them; the
+    /// earlier per-step point-in-time runs (a `source` per step) cost three times as much
+    /// for the same error and could not be re-weighted.
     fn sun_total(&self, text: &str) -> Result<Vec<f64>> {
-        let ns = self.rays.len();
-        let mut out = vec![0.0; ns * self.nsteps * 3];
-        for (t, dir) in self.sun_dirs.iter().enumerate() {
-            let Some(d) = dir else { continue };
-            // Radiance 1e4 keeps the single-precision colours far from underflow.
-            let scene = format!(
-                "{text}\nvoid light rcalib_sun_mat 0 0 3 1e4 1e4 1e4\n\
-                 rcalib_sun_mat source rcalib_sun 0 0 4 {} {} {} 0.533\n",
-                d[0], d[1], d[2]
-            );
-            // A seed per step: with one seed every step's paths from a sensor are the same
-            // and only the sun moves, so the Monte Carlo error of the inter-reflected sun
-            // repeats from step to step, a per-sensor bias that looks like a sensor fault
-            // or a reflectance pattern to `explain`. Per-step seeds make it per-reading
-            // noise, which the fits average out; a scene and its calibrated version still
-            // share each step's seed (correlated errors, as before).
-            let v = self.run_for_step(t, &scene, &["-dj", "0"])?;
-            if v.len() != ns * 3 {
-                return Err(Error::Mismatch(format!(
-                    "rdc returned {} values for {ns} sensors",
-                    v.len()
-                )));
-            }
-            for s in 0..ns {
-                for c in 0..3 {
-                    out[(s * self.nsteps + t) * 3 + c] = v[s * 3 + c] * 1e-4;
-                }
-            }
+        let v = self.run(text, &["--suns", "SUNS", "--suns-ab"])?;
+        let n = self.rays.len() * self.nsteps * 3;
+        if v.len() != n {
+            return Err(Error::Mismatch(format!(
+                "rdc returned {} sun values, expected {n}",
+                v.len()
+            )));
         }
-        Ok(out)
+        Ok(v)
     }
 
     /// Sky coefficients (all bounces) of `scene` with the reflectance of each class of
@@ -432,14 +437,53 @@ impl Tracer {
         classes: &[SurfaceClass],
         ks: &[f64],
     ) -> Result<ScaledDcs> {
-        let text = scene.to_string();
         let mf = self.settings.mf.to_string();
-        let kind = ["-m", mf.as_str()];
+        let ncols = SkyPatches::new(self.settings.mf).len();
+        self.scaled_runs(scene, room, classes, ks, &["-m", mf.as_str()], ncols)
+    }
+
+    /// `Vsun` ([`Tracer::sun_total`]) with class reflectances scaled, as
+    /// [`Tracer::dc_scaled`] does for the sky: one re-weighted run of the sun paths.
+    pub fn sun_scaled(
+        &self,
+        scene: &Scene,
+        room: &Room,
+        classes: &[SurfaceClass],
+        ks: &[f64],
+    ) -> Result<ScaledDcs> {
+        self.scaled_runs(
+            scene,
+            room,
+            classes,
+            ks,
+            &["--suns", "SUNS", "--suns-ab"],
+            self.nsteps,
+        )
+    }
+
+    /// One re-weighted run of kind `kind` (`ncols` columns per sensor) and its variants.
+    fn scaled_runs(
+        &self,
+        scene: &Scene,
+        room: &Room,
+        classes: &[SurfaceClass],
+        ks: &[f64],
+        kind: &[&str],
+        ncols: usize,
+    ) -> Result<ScaledDcs> {
+        let text = scene.to_string();
+        let kinds = kind.join(" ");
+        let suns = if kind.contains(&"--suns") {
+            self.suns_wea.as_str()
+        } else {
+            ""
+        };
         let variant_key = |c: SurfaceClass, k: f64| {
             cache::key(&[
                 text.as_bytes(),
                 self.sensors_text.as_bytes(),
-                format!("{:?} reweighted {c:?} x {k}", self.settings).as_bytes(),
+                format!("{:?} {kinds} reweighted {c:?} x {k}", self.settings).as_bytes(),
+                suns.as_bytes(),
             ])
         };
         if let Some(dir) = &self.cache {
@@ -474,7 +518,11 @@ impl Tracer {
                 caps.push((class, color.iter().copied().fold(0.0, f64::max)));
             }
         }
-        let key = cache::key(&[text.as_bytes(), names.join(",").as_bytes()]);
+        let key = cache::key(&[
+            text.as_bytes(),
+            names.join(",").as_bytes(),
+            kinds.as_bytes(),
+        ]);
         // The terms come back in memory with the rows; the file rdc would write is not
         // needed (Prepared::compute does not write it).
         let rw_path = self.work.join(format!("rw-{key:016x}.bin"));
@@ -486,7 +534,6 @@ impl Tracer {
         }
         let rows = self.trace(&text, &args, key)?;
         let _ = std::fs::remove_file(&rw_path);
-        let ncols = SkyPatches::new(self.settings.mf).len();
         let mut rw = Reweighting::new(names.clone(), ncols, 3);
         for r in &rows {
             rw.push_row(&r.terms);

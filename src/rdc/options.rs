@@ -138,6 +138,13 @@ pub struct Options {
     #[arg(long = "suns", value_name = "MF|weather-file")]
     pub suns: Option<String>,
 
+    /// With --suns: every bounce up to -ab, not only the direct view (each path from a
+    /// sensor does next-event estimation towards every sun at every surface it meets;
+    /// rcontrib -ab N with the suns as light sources: the five-phase method's sun
+    /// coefficients with inter-reflection, all suns from the same paths).
+    #[arg(long = "suns-ab")]
+    pub suns_ab: bool,
+
     /// Full apex angle of the --suns discs in degrees (gendaymtx -5 0.533).
     #[arg(long = "sun-angle", value_name = "DEG", default_value_t = 0.533)]
     pub sun_angle: f64,
@@ -198,6 +205,13 @@ pub struct Options {
     /// most --max-samples (no Radiance counterpart: Radiance only has a fixed -ad).
     #[arg(long = "target-se", value_name = "REL")]
     pub target_se: Option<f64>,
+
+    /// With --target-se: the target applies to the standard error of each record's row sum
+    /// (for sky coefficients, the sensor under a uniform sky) instead of the RMS of its
+    /// column SEs; coefficients that feed sky-weighted sums then get the samples the sum
+    /// needs (no Radiance counterpart).
+    #[arg(long = "se-row")]
+    pub se_row: bool,
 
     /// Upper limit on samples per record with --target-se (default 100 x -ad; no Radiance
     /// counterpart).

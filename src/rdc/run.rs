@@ -63,6 +63,8 @@ pub struct Job<'a> {
     pub weights: Vec<f64>,
     pub ad: usize,
     pub target_se: Option<f64>,
+    /// `--se-row`: `target_se` bounds the row sum's error ([`Tally::row_relative_se`]).
+    pub se_row: bool,
     pub max_samples: usize,
     pub seed: u64,
     /// Keep re-weighting terms per record (`--reweight`).
@@ -95,7 +97,12 @@ impl Job<'_> {
             match self.target_se {
                 None => break,
                 Some(t) => {
-                    if tally.relative_se() <= t || tally.samples() as usize >= self.max_samples {
+                    let se = if self.se_row {
+                        tally.row_relative_se()
+                    } else {
+                        tally.relative_se()
+                    };
+                    if se <= t || tally.samples() as usize >= self.max_samples {
                         break;
                     }
                 }
@@ -105,7 +112,11 @@ impl Job<'_> {
         tally.mean_into(&mut values);
         RecordResult {
             values,
-            rel_se: tally.relative_se(),
+            rel_se: if self.se_row {
+                tally.row_relative_se()
+            } else {
+                tally.relative_se()
+            },
             samples: tally.samples(),
             terms: tally.terms(),
         }
@@ -152,7 +163,10 @@ pub struct Prepared {
     patches: Option<SkyPatches>,
     direct: bool,
     suns: Option<Vec<SunDisc>>,
+    /// `--suns-ab`: sun coefficients with inter-reflection.
+    suns_ab: bool,
     target_se: Option<f64>,
+    se_row: bool,
     max_samples: Option<usize>,
     seed: u64,
     threads: Option<usize>,
@@ -227,7 +241,9 @@ impl Prepared {
             patches,
             direct: opts.direct,
             suns,
+            suns_ab: opts.suns_ab,
             target_se: opts.target_se,
+            se_row: opts.se_row,
             max_samples: opts.max_samples,
             seed: opts.seed,
             threads: opts.threads,
@@ -249,7 +265,10 @@ impl Prepared {
                 direct_only: self.direct,
             }
         } else if let Some(s) = &self.suns {
-            Mode::Suns { suns: s }
+            Mode::Suns {
+                suns: s,
+                bounces: self.suns_ab,
+            }
         } else {
             Mode::Values
         };
@@ -265,6 +284,7 @@ impl Prepared {
             weights,
             ad: self.sampling.ad,
             target_se: self.target_se,
+            se_row: self.se_row,
             max_samples: self.max_samples.unwrap_or(100 * self.sampling.ad),
             seed: self.seed,
             terms: self.reweight.is_some(),
@@ -391,6 +411,12 @@ fn check_combinations(opts: &Options, picture: bool, channels: &Channels) -> Res
         if t.is_nan() || t <= 0.0 {
             return Err(Error::Usage(format!("--target-se {t}: expected > 0")));
         }
+    }
+    if opts.suns_ab && opts.suns.is_none() {
+        return usage("--suns-ab needs --suns MF|weather-file");
+    }
+    if opts.se_row && opts.target_se.is_none() {
+        return usage("--se-row needs --target-se REL (the row sum's relative error target)");
     }
     if opts.reweight.is_some() && opts.mf.is_none() && opts.suns.is_none() {
         return usage(

@@ -14,6 +14,7 @@
 //! `-lw` has its Radiance meaning. Sensor points are offset `1e-4` along their normal
 //! (`eval_irrad`).
 
+use super::tracer::SunDisc;
 use super::tracer::{
     Estimator, Mode, Quantity, Query, Rng, Stratum, Tally, TraceParams as DriverParams,
 };
@@ -21,7 +22,7 @@ use crate::geometry::Vec3;
 use crate::material::Color;
 use crate::material::sampling::cosine_hemisphere;
 use crate::radiometry::MAX_SAMPLES;
-use crate::trace::integrator::SENSOR_OFFSET;
+use crate::trace::integrator::{PathSink, SENSOR_OFFSET};
 use crate::trace::reweight::{Events, Tracking};
 use crate::trace::{Renderable, TraceParams};
 use std::f64::consts::PI;
@@ -98,6 +99,66 @@ fn add_term(tally: &mut Tally, col: usize, c: &Color, scale: f64, ev: Events, bu
     tally.add_term(col, ev.signature(), scaled(c, scale, buf));
 }
 
+/// Where a `--suns-ab` path's sun contributions go: column `i` of the tally, times `scale`
+/// (pi for a sensor's cosine-sampled path, 1 for a view ray).
+struct SunSink<'a> {
+    suns: &'a [SunDisc],
+    tally: &'a mut Tally,
+    scale: f64,
+    buf: Buf,
+}
+
+impl PathSink for SunSink<'_> {
+    fn escape(&mut self, _dir: Vec3, _beta: Color, _events: &Events) {}
+    fn nsuns(&self) -> usize {
+        self.suns.len()
+    }
+    fn sun_at(&self, i: usize) -> (Vec3, f64) {
+        (Vec3::from(self.suns[i].dir), self.suns[i].solid_angle)
+    }
+    fn sun(&mut self, i: usize, value: Color, events: &Events) {
+        add_term(self.tally, i, &value, self.scale, *events, &mut self.buf);
+    }
+}
+
+impl Traced {
+    /// `--suns-ab`: one path sample (a stratified cosine direction from a sensor, or the
+    /// view ray) whose every surface vertex looks at every sun.
+    #[allow(clippy::too_many_arguments)]
+    fn sun_bounces(
+        &self,
+        org: Vec3,
+        dir: Vec3,
+        from_sensor: bool,
+        suns: &[SunDisc],
+        rng: &mut Rng,
+        tally: &mut Tally,
+    ) {
+        let (w0, scale) = if from_sensor {
+            (self.w0, PI)
+        } else {
+            (1.0, 1.0)
+        };
+        let mut sink = SunSink {
+            suns,
+            tally,
+            scale,
+            buf: [0.0; MAX_SAMPLES],
+        };
+        let rays = self.scene.sun_path_sample(
+            org,
+            dir,
+            from_sensor,
+            w0,
+            &self.params,
+            rng,
+            self.track.as_ref(),
+            &mut sink,
+        );
+        self.rays.fetch_add(rays, Ordering::Relaxed);
+    }
+}
+
 impl Estimator for Traced {
     fn sample(&self, q: &Query, mode: &Mode, stratum: Stratum, rng: &mut Rng, tally: &mut Tally) {
         let mut buf: Buf = [0.0; MAX_SAMPLES];
@@ -151,8 +212,13 @@ impl Estimator for Traced {
                 );
                 self.rays.fetch_add(rays, Ordering::Relaxed);
             }
-            (Quantity::Irradiance, Mode::Suns { suns }) => {
+            (Quantity::Irradiance, Mode::Suns { suns, bounces }) => {
                 let org = Vec3::from(q.org) + n.normalize() * SENSOR_OFFSET;
+                if *bounces && self.params.ab > 0 {
+                    let (u, v) = stratum.unit_square(rng);
+                    let d = cosine_hemisphere(n.normalize().to_array(), u, v);
+                    self.sun_bounces(org, Vec3::from(d), true, suns, rng, tally);
+                }
                 for (i, s) in suns.iter().enumerate() {
                     let c = n.normalize().dot(Vec3::from(s.dir));
                     if c <= 0.0 {
@@ -167,7 +233,10 @@ impl Estimator for Traced {
                     }
                 }
             }
-            (Quantity::Radiance, Mode::Suns { suns }) => {
+            (Quantity::Radiance, Mode::Suns { suns, bounces }) => {
+                if *bounces {
+                    self.sun_bounces(Vec3::from(q.org), n.normalize(), false, suns, rng, tally);
+                }
                 // A view ray's sun coefficient: 1 when it looks into the disc unobstructed.
                 if let Some(i) = suns
                     .iter()

@@ -102,8 +102,9 @@ pub enum Mode<'a> {
         patches: &'a SkyPatches,
         direct_only: bool,
     },
-    /// Sun coefficients: column `i` is the unit-radiance disc `suns[i]`, seen directly.
-    Suns { suns: &'a [SunDisc] },
+    /// Sun coefficients: column `i` is the unit-radiance disc `suns[i]`, seen directly, or
+    /// with `bounces` also through every inter-reflection up to `-ab` (`--suns-ab`).
+    Suns { suns: &'a [SunDisc], bounces: bool },
     /// Point-in-time values under the scene's own sky and suns
     /// ([`crate::trace::sources`]): one column.
     Values,
@@ -114,7 +115,7 @@ impl Mode<'_> {
     pub fn ncols(&self) -> usize {
         match self {
             Mode::Sky { patches, .. } => patches.len(),
-            Mode::Suns { suns } => suns.len(),
+            Mode::Suns { suns, .. } => suns.len(),
             Mode::Values => 1,
         }
     }
@@ -190,6 +191,9 @@ pub struct Tally {
     open: Vec<f64>,
     touched: Vec<usize>,
     samples: u64,
+    /// Sum of squares of each sample's row total (all columns' scalars): the standard
+    /// error of the row sum, e.g. a sensor under a uniform sky ([`Tally::row_relative_se`]).
+    row_sumsq: f64,
     /// Re-weighting terms per (column, signature), when the run records them.
     terms: Option<TermTally>,
 }
@@ -207,6 +211,7 @@ impl Tally {
             open: vec![0.0; ncols],
             touched: Vec::new(),
             samples: 0,
+            row_sumsq: 0.0,
             terms: None,
         }
     }
@@ -252,6 +257,7 @@ impl Tally {
         }
         self.touched.clear();
         self.samples = 0;
+        self.row_sumsq = 0.0;
         if let Some(t) = &mut self.terms {
             t.clear();
         }
@@ -301,10 +307,13 @@ impl Tally {
 
     /// Close the open sample.
     pub fn end_sample(&mut self) {
+        let mut row = 0.0;
         for &c in &self.touched {
             self.sumsq[c] += self.open[c] * self.open[c];
+            row += self.open[c];
             self.open[c] = 0.0;
         }
+        self.row_sumsq += row * row;
         self.touched.clear();
         self.samples += 1;
     }
@@ -341,6 +350,24 @@ impl Tally {
             .map(|(s, w)| s * w)
             .sum::<f64>()
             / n
+    }
+
+    /// Relative standard error of the record's row sum (the scalar summed over columns):
+    /// for sky coefficients the error of the sensor's value under a uniform sky, which
+    /// is what a weighted sum over many patches inherits, where each column's own error
+    /// is large. 0 for a zero record, infinite with fewer than 2 samples.
+    pub fn row_relative_se(&self) -> f64 {
+        if self.samples < 2 {
+            return f64::INFINITY;
+        }
+        let n = self.samples as f64;
+        let mean = (0..self.ncols)
+            .map(|c| self.column_scalar_mean(c))
+            .sum::<f64>();
+        if mean.abs() <= f64::MIN_POSITIVE {
+            return 0.0;
+        }
+        ((self.row_sumsq - n * mean * mean).max(0.0) / (n * (n - 1.0))).sqrt() / mean.abs()
     }
 
     /// Relative standard error of the record: RMS of the column SEs over the mean column

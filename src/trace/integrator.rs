@@ -151,6 +151,38 @@ enum Mode {
     Coefficients,
     /// Values: next-event estimation and emission.
     Values,
+    /// Sun coefficients with inter-reflection: next-event estimation towards every sun of
+    /// the sink ([`PathSink::sun_at`]) at every surface vertex, nothing at escapes.
+    Suns,
+}
+
+/// Where a path's findings go: escapes into distant glows (coefficient mode) and, in sun
+/// coefficient mode, the light of each sun scattered towards the path at a vertex.
+/// [`Escapes`] makes an escape closure a sink.
+pub trait PathSink {
+    /// A coefficient-mode escape along `dir` with the path's throughput.
+    fn escape(&mut self, dir: Vec3, beta: Color, events: &Events);
+    /// Number of suns (sun coefficient mode).
+    fn nsuns(&self) -> usize {
+        0
+    }
+    /// Unit direction to sun `i` and its solid angle.
+    fn sun_at(&self, _i: usize) -> (Vec3, f64) {
+        (Vec3::new(0.0, 0.0, 1.0), 0.0)
+    }
+    /// Sun `i` of unit radiance seen through the path: the radiance it sends back along
+    /// the path (throughput x the vertex's direct coefficient x shadow transmission), with
+    /// the tracked events of the path, the vertex and the shadow ray.
+    fn sun(&mut self, _i: usize, _value: Color, _events: &Events) {}
+}
+
+/// A sink for escapes only: `escape(dir, throughput, events)`.
+pub struct Escapes<'a>(pub &'a mut dyn FnMut(Vec3, Color, &Events));
+
+impl PathSink for Escapes<'_> {
+    fn escape(&mut self, dir: Vec3, beta: Color, events: &Events) {
+        (self.0)(dir, beta, events)
+    }
 }
 
 /// A surface vertex of a path.
@@ -317,6 +349,46 @@ impl Renderable {
         out
     }
 
+    /// Sun coefficient mode at a vertex: each sun of the sink as a unit-radiance disc aimed
+    /// at its centre, as [`Renderable::direct`] treats a `light` source (Radiance `-dj 0`).
+    /// The vertex counts as a scattering at its material for re-weighting when the
+    /// material's diffuse lobe scales with its colour (a plastic's uncoloured specular
+    /// part is then re-weighted with it: exact for the matte surfaces of rooms).
+    #[allow(clippy::too_many_arguments)]
+    fn sun_nee(
+        &self,
+        h: &Hit,
+        m: &Material,
+        index: u32,
+        s: &Surface,
+        wo: Vec3,
+        st: &PathState,
+        rays: &mut u64,
+        track: Option<&Tracking>,
+        sink: &mut dyn PathSink,
+    ) {
+        for i in 0..sink.nsuns() {
+            let (dir, omega) = sink.sun_at(i);
+            let Some(coef) = m.eval_direct(wo.to_array(), dir.to_array(), s, omega) else {
+                return;
+            };
+            if coef.max() <= 0.0 {
+                continue;
+            }
+            if let Some((t, shadow_ev)) = self.shadow_tracked(h.spawn_origin(dir), dir, rays, track)
+            {
+                let mut ev = st.events;
+                if let Some(tr) = track {
+                    if scales_with_colour(m, SampleKind::DiffuseReflect) {
+                        ev.push(tr.of(index));
+                    }
+                    ev.extend(&shadow_ev);
+                }
+                sink.sun(i, st.beta * coef * t, &ev);
+            }
+        }
+    }
+
     /// Walk one path from `ray`, adding radiance (values mode) to the return value and
     /// calling `escape(dir, throughput)` for escapes in coefficients mode.
     #[allow(clippy::too_many_arguments)]
@@ -330,12 +402,14 @@ impl Renderable {
         rng: &mut impl Rng,
         rays: &mut u64,
         track: Option<&Tracking>,
-        escape: &mut dyn FnMut(Vec3, Color, &Events),
+        sink: &mut dyn PathSink,
     ) -> Color {
         let mut out = Color::black(self.ncomp);
         loop {
             let Some(h) = self.cast(&ray, rays) else {
                 match mode {
+                    // Suns were counted by next-event estimation at the vertices.
+                    Mode::Suns => {}
                     Mode::Values => {
                         if let Some(l) = self.sources.escape(ray.dir, st.sees_sources) {
                             out += st.beta * l;
@@ -351,7 +425,7 @@ impl Renderable {
                             )
                         };
                         if counts {
-                            escape(ray.dir, st.beta, &st.events);
+                            sink.escape(ray.dir, st.beta, &st.events);
                         }
                     }
                 }
@@ -374,6 +448,9 @@ impl Renderable {
             if mode == Mode::Values && self.sources.lights().next().is_some() {
                 out += st.beta * self.direct(&h, m, &s, wo, rays);
             }
+            if mode == Mode::Suns {
+                self.sun_nee(&h, m, info.material, &s, wo, &st, rays, track, sink);
+            }
             if st.depth >= params.max_depth {
                 return out;
             }
@@ -392,7 +469,7 @@ impl Renderable {
                     if let Some((ray_r, st_r)) =
                         self.advance(&v, st, r, w0, params, mode, rng, track, &mut out)
                     {
-                        out += self.walk(ray_r, st_r, w0, params, mode, rng, rays, track, escape);
+                        out += self.walk(ray_r, st_r, w0, params, mode, rng, rays, track, sink);
                     }
                 }
                 let Some(t) = t else {
@@ -525,14 +602,14 @@ impl Renderable {
                 rng,
                 &mut rays,
                 None,
-                &mut |d, beta, _| {
+                &mut Escapes(&mut |d, beta, _| {
                     let bin = patches.bin_of(d.to_array());
                     let row = &mut out[bin * nc..(bin + 1) * nc];
                     for (c, (o, &b)) in row.iter_mut().zip(beta.as_slice()).enumerate() {
                         *o += scale * b as f64;
                         sample_total[c] += PI * b as f64;
                     }
-                },
+                }),
             );
             stats.rays += rays;
             stats.add(&sample_total);
@@ -599,7 +676,7 @@ impl Renderable {
                 rng,
                 &mut rays,
                 None,
-                &mut |_, _, _| {},
+                &mut Escapes(&mut |_, _, _| {}),
             );
             for (x, &y) in v.iter_mut().zip(l.as_slice()) {
                 *x = PI * y as f64;
@@ -644,7 +721,7 @@ impl Renderable {
             rng,
             &mut rays,
             None,
-            &mut |_, _, _| {},
+            &mut Escapes(&mut |_, _, _| {}),
         );
         (l, rays)
     }
@@ -696,9 +773,49 @@ impl Renderable {
             rng,
             &mut rays,
             track,
-            escape,
+            &mut Escapes(escape),
         );
         (l, rays)
+    }
+
+    /// One sun-coefficient path sample from a sensor (`-I`, the first sample counting as
+    /// diffuse bounce 1) or along a view ray: at every surface vertex, next-event
+    /// estimation towards each of `sink`'s suns ([`PathSink::sun`]); escapes count nothing.
+    /// The five-phase method's sun coefficients with inter-reflection (rcontrib `-ab N`
+    /// with the suns as `light` sources), for every sun from the same paths. The sensor's
+    /// own direct view of the suns is the caller's. Returns the rays cast.
+    #[allow(clippy::too_many_arguments)]
+    pub fn sun_path_sample(
+        &self,
+        org: Vec3,
+        dir: Vec3,
+        from_sensor: bool,
+        w0: f64,
+        params: &TraceParams,
+        rng: &mut impl Rng,
+        track: Option<&Tracking>,
+        sink: &mut dyn PathSink,
+    ) -> u64 {
+        let st = PathState {
+            beta: Color::splat(self.ncomp, 1.0),
+            sees_sources: !from_sensor,
+            diffuse: u32::from(from_sensor),
+            depth: u32::from(from_sensor),
+            events: Events::default(),
+        };
+        let mut rays = 0;
+        self.walk(
+            Ray { org, dir },
+            st,
+            w0,
+            params,
+            Mode::Suns,
+            rng,
+            &mut rays,
+            track,
+            sink,
+        );
+        rays
     }
 
     /// Transmission from `org` towards the distant direction `dir` through everything in

@@ -144,6 +144,14 @@ impl Events {
         }
     }
 
+    /// Record every event of `other` too (a shadow ray's panes after its path's events).
+    #[inline]
+    pub fn extend(&mut self, other: &Events) {
+        for &id in &other.ev[..usize::from(other.n)] {
+            self.push(id);
+        }
+    }
+
     /// The canonical (sorted) signature.
     pub fn signature(&self) -> Signature {
         let mut s = Signature::default();

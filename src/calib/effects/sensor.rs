@@ -24,7 +24,7 @@ pub const OUTLIER_SIGMAS: f64 = 3.0;
 /// Flag faulty sensors given the other effects in `base`.
 pub fn fit(f: &Fitter, base: &[Effect]) -> Option<Effect> {
     let base = without(base, "sensor-fault");
-    let sim = f.m.predict(&base);
+    let sim = f.predict(&base);
     let ns = f.m.nsens();
     let mut factors: Vec<(usize, f64)> = Vec::new();
     let mut best = f.score_sim(&sim).bic(0);

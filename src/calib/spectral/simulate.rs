@@ -8,8 +8,8 @@
 //! ```
 //!
 //! - `DC`: sky coefficients with all bounces, `N` bands (`rdc -I -m MF -cs N -cw a b`);
-//!   `Vsun`: a unit-radiance white sun disc at the step's position with all bounces (one
-//!   `rdc -I -dj 0 -cs N` run per sunlit step), as the photopic `Vsun`.
+//!   `Vsun`: unit-radiance white sun discs at the steps' positions with all bounces (one
+//!   `rdc -I --suns steps.wea --suns-ab -cs N` run), as the photopic `Vsun`.
 //! - `Y_p(t)`, `L_sun(t)`: the photopic Perez sky (no sun) and sun-disc radiance of the
 //!   step, exactly the photopic model's ([`StepSky`]).
 //! - `S(t,b)`: the spectra of [`crate::sky::spectral`] (rspecsky): CIE daylight of a CCT
@@ -100,6 +100,17 @@ pub fn simulate(
         )));
     }
     let nt = skies.len();
+    // Vsun: every step's sun from one set of paths, exactly the photopic model's run
+    // (same seed and settings) with N bands.
+    let mut k: Vec<&str> = vec!["--suns", "SUNS", "--suns-ab"];
+    k.extend(cs.iter().map(String::as_str));
+    let vsun = tracer.run(&text, &k)?;
+    if vsun.len() != nsens * nt * n {
+        return Err(Error::Mismatch(format!(
+            "rdc returned {} sun coefficients for {nsens} sensors, {nt} steps and {n} bands",
+            vsun.len()
+        )));
+    }
     let mut values = vec![0.0; nsens * nt * n];
     for (t, sk) in skies.iter().enumerate() {
         let (s_sky, s_sun, s_ground) = step_spectra(sk, ch);
@@ -119,27 +130,11 @@ pub fn simulate(
             }
         }
         if sk.sun_altitude_deg > 0.0 && sk.sun_radiance > 0.0 {
-            let d = sk.sun_dir;
-            // Radiance 1e4 keeps single-precision colours far from underflow (as the
-            // photopic Vsun run).
-            let sun_scene = format!(
-                "{text}\nvoid light rcalib_sun_mat 0 0 3 1e4 1e4 1e4\n\
-                 rcalib_sun_mat source rcalib_sun 0 0 4 {} {} {} 0.533\n",
-                d[0], d[1], d[2]
-            );
-            let mut k: Vec<&str> = vec!["-dj", "0"];
-            k.extend(cs.iter().map(String::as_str));
-            let v = tracer.run_for_step(t, &sun_scene, &k)?;
-            if v.len() != nsens * n {
-                return Err(Error::Mismatch(format!(
-                    "rdc returned {} values for {nsens} sensors and {n} bands",
-                    v.len()
-                )));
-            }
             for s in 0..nsens {
+                let v = &vsun[(s * nt + t) * n..][..n];
                 let o = &mut values[(s * nt + t) * n..][..n];
                 for b in 0..n {
-                    o[b] += v[s * n + b] * 1e-4 * sk.sun_radiance * s_sun[b];
+                    o[b] += v[b] * sk.sun_radiance * s_sun[b];
                 }
             }
         }
