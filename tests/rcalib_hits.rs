@@ -246,9 +246,25 @@ fn explain_timing_20_sensors_50_steps() {
     let t2 = std::time::Instant::now();
     let ex = rdaylight::calib::explain::explain(&m2, &[], DEFAULT_SENSOR_SIGMA);
     let fit = t2.elapsed().as_secs_f64();
+    let t3 = std::time::Instant::now();
+    let scene = case.model_scene().unwrap();
+    let ex =
+        rdaylight::calib::explain::refined(&m2, ex, DEFAULT_SENSOR_SIGMA, REFINE_ROUNDS, &|e| {
+            rdaylight::calib::explain::simulate_applied(
+                &scene,
+                &m2,
+                &case.weather,
+                &case.readings,
+                &opts,
+                e,
+            )
+        })
+        .unwrap();
+    let refine = t3.elapsed().as_secs_f64();
     println!(
         "timing: {} sensors x {} steps ({} readings): model build {cold:.1} s from an empty \
-         cache, {warm:.1} s cached; explain {fit:.1} s; selected {:?}",
+         cache, {warm:.1} s cached; explain fits {fit:.1} s; {REFINE_ROUNDS} refinement \
+         rounds (re-simulations) {refine:.1} s; selected {:?}",
         m.nsens(),
         m.nsteps(),
         m.obs.len(),

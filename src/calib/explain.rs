@@ -246,6 +246,8 @@ pub fn explain(m: &Model, families: &[&str], sigma_sensor: f64) -> Explanation {
         cur_bic = f.score_sim(&cur_sim).bic(k);
         selected.push(best);
     }
+    prune(&f, &mut chosen, &mut selected);
+    cur_sim = f.predict(&chosen);
     // Report the kept effects with their re-fitted parameters.
     for (c, e) in selected.iter_mut().zip(&chosen) {
         c.effect = e.clone();
@@ -310,6 +312,31 @@ fn verdict(
     }
 }
 
+/// Backward check after the kept effects were re-fitted given each other: an effect whose
+/// removal now raises the BIC by less than [`SIGNIFICANT`] is dropped (e.g. a floor scale
+/// that the glazing scale has made redundant and that re-fitting moved to 0.999).
+fn prune(f: &Fitter, chosen: &mut Vec<Effect>, selected: &mut Vec<Candidate>) {
+    let bic = |effects: &[Effect]| {
+        let k: usize = effects.iter().map(Effect::n_params).sum();
+        f.score_sim(&f.predict(effects)).bic(k)
+    };
+    let mut i = chosen.len();
+    while i > 0 {
+        i -= 1;
+        if chosen.len() < 2 {
+            break;
+        }
+        let mut without_i = chosen.clone();
+        without_i.remove(i);
+        if bic(&without_i) - bic(chosen) < SIGNIFICANT {
+            chosen.remove(i);
+            if i < selected.len() {
+                selected.remove(i);
+            }
+        }
+    }
+}
+
 /// Step 4 of the module documentation: re-fit the kept effects of `ex` under the
 /// per-reading correction `exact / predicted`, where `exact` is the re-simulation of the
 /// model with those effects applied (sensor faults as factors on it, as in
@@ -352,6 +379,7 @@ pub fn refine(m: &Model, ex: &Explanation, exact: &[f64], sigma_sensor: f64) -> 
     let ids: Vec<String> = m.sensors.iter().map(|s| s.id.clone()).collect();
     let windows: Vec<String> = m.room.windows.iter().map(|w| w.id.clone()).collect();
     let mut out = ex.clone();
+    prune(&f, &mut chosen, &mut out.selected);
     for (i, (c, e)) in out.selected.iter_mut().zip(&chosen).enumerate() {
         c.effect = e.clone();
         c.spec = e.spec(&ids, &windows);
