@@ -7,7 +7,10 @@
 # RCALIB_WORST=1 adds each case's worst readings, RCALIB_ORACLE=1 the error of the hidden
 # effect itself applied (parameter x 1.01): the Monte Carlo floor of the after-apply error.
 # The 'fit vs applied' column is RMSE_rel of the fitted prediction against the applied
-# model's re-simulation. `cargo test --release --test rcalib_hits fidelity_table -- --ignored`
+# model's re-simulation; 'simulation error' is the truth re-simulated at the model's
+# settings against the converged (noise-free) truth values: the floor of any fit.
+# Readings come from converged settings (Settings::truth); noise-only = the readings
+# against those noise-free values. `cargo test --release --test rcalib_hits fidelity_table -- --ignored`
 # and `... explain_timing_20_sensors_50_steps -- --ignored` are the other diagnostics.
 set -euo pipefail
 cd "$(dirname "$0")/.."

@@ -364,7 +364,7 @@ fn prune(f: &Fitter, chosen: &mut Vec<Effect>, selected: &mut Vec<Candidate>) {
 /// per-reading correction `exact / predicted`, where `exact` is the re-simulation of the
 /// model with those effects applied (sensor faults as factors on it, as in
 /// [`Model::predict`]) and `predicted` the coefficient model's value for the same effects.
-/// Two coordinate passes and the backward check; the ranking is kept as it was.
+/// Two coordinate passes; the ranking is kept as it was.
 pub fn refine(m: &Model, ex: &Explanation, exact: &[f64], sigma_sensor: f64) -> Explanation {
     let mut chosen: Vec<Effect> = ex.selected.iter().map(|c| c.effect.clone()).collect();
     if chosen.is_empty() || exact.len() != m.obs.len() {
@@ -402,10 +402,10 @@ pub fn refine(m: &Model, ex: &Explanation, exact: &[f64], sigma_sensor: f64) -> 
     let ids: Vec<String> = m.sensors.iter().map(|s| s.id.clone()).collect();
     let windows: Vec<String> = m.room.windows.iter().map(|w| w.id.clone()).collect();
     let mut out = ex.clone();
-    // No forward selection under the correction: a factor made for the kept effects is
-    // no guide to others (tried: in the sunny office it added a local obstruction and a
-    // steep narrow obstruction to an overhang and tripled the error).
-    prune(&f, &mut chosen, &mut out.selected);
+    // Neither forward selection nor the backward check under the correction: a factor
+    // made for the kept effects is no guide to others, nor to dropping one of them (both
+    // tried: in the sunny office one added a local obstruction and a steep narrow
+    // obstruction to an overhang, the other dropped the obstruction it was made with).
     for (i, (c, e)) in out.selected.iter_mut().zip(&chosen).enumerate() {
         c.effect = e.clone();
         c.spec = e.spec(&ids, &windows);
