@@ -84,7 +84,7 @@ radiance-example: radiance
 # Installs real Radiance (pyradiance) when missing, then runs every test: unit, format
 # round trips, malformed input, and live interop with the real Radiance binaries.
 test: radiance
-	$(CARGO) test
+	$(CARGO) test --workspace
 
 radiance:
 	@$(PYTHON) -c "import pyradiance" 2>/dev/null || $(PYTHON) -m pip install --quiet "$(PYRADIANCE)"

@@ -342,7 +342,7 @@ fn model_of(l: &Loaded, opts: &Options) -> Result<Model, Error> {
 }
 
 fn write_file(path: &Path, text: &str) -> Result<(), Error> {
-    rdaylight::cli::write_atomically(path, |w| {
+    rdaylight::io::write_atomically(path, |w| {
         w.write_all(text.as_bytes())
             .map_err(|e| Error::io(path.display().to_string(), e))
     })
@@ -472,7 +472,7 @@ fn cmd_apply(a: ApplyArgs) -> Result<(), Error> {
         (Some(m), Some(out)) => {
             let readings = Measurements::read_path(m)?;
             let fixed = apply::correct_readings(&readings.readings, &ids, &effects);
-            rdaylight::cli::write_atomically(out, |w| write_csv(w, &fixed))?;
+            rdaylight::io::write_atomically(out, |w| write_csv(w, &fixed))?;
         }
         _ if faults => eprintln!(
             "rcalib: sensor-fault changes the readings, not the model: add --measured IN \
@@ -598,7 +598,7 @@ fn cmd_synth(a: SynthArgs) -> Result<(), Error> {
             case.truth_text
         ),
     )?;
-    rdaylight::cli::write_atomically(&a.out.join("sensors.csv"), |w| {
+    rdaylight::io::write_atomically(&a.out.join("sensors.csv"), |w| {
         write_sensors(w, &case.sensors)
     })?;
     let idx: Vec<usize> = {
@@ -611,7 +611,7 @@ fn cmd_synth(a: SynthArgs) -> Result<(), Error> {
         &a.out.join("weather.wea"),
         &rdaylight::calib::simulate::subset_wea(&case.weather, &idx),
     )?;
-    rdaylight::cli::write_atomically(&a.out.join("measured.csv"), |w| {
+    rdaylight::io::write_atomically(&a.out.join("measured.csv"), |w| {
         write_csv(w, &case.csv_readings())
     })?;
     println!(
@@ -750,14 +750,14 @@ fn synth_spectral(
             c.truth_text
         ),
     )?;
-    rdaylight::cli::write_atomically(&a.out.join("sensors.csv"), |w| write_sensors(w, &c.sensors))?;
+    rdaylight::io::write_atomically(&a.out.join("sensors.csv"), |w| write_sensors(w, &c.sensors))?;
     let (idx, _) = rdaylight::calib::spectral::measured_steps(&c.bound);
     write_file(
         &a.out.join("weather.wea"),
         &rdaylight::calib::simulate::subset_wea(&c.weather, &idx),
     )?;
     let r = c.readings();
-    rdaylight::cli::write_atomically(&a.out.join("measured.csv"), |w| {
+    rdaylight::io::write_atomically(&a.out.join("measured.csv"), |w| {
         readings::write_csv(w, &r.names, &r.readings)
     })?;
     println!(

@@ -125,8 +125,8 @@ enum Cmd {
         /// Spectral irradiance matrix; `-` = standard input.
         #[arg(default_value = "-")]
         input: String,
-        /// Quantity per sensor and step.
-        #[arg(long, value_enum, default_value = "medi")]
+        /// Quantity per sensor and step: medi, ev, mp, emel or radiance-m.
+        #[arg(long, default_value = "medi")]
         quantity: metrics::melanopic::Quantity,
         /// Write the matrix here instead of standard output.
         #[arg(short = 'o', long, value_name = "FILE")]
@@ -207,7 +207,7 @@ fn write_out(
     f: impl FnOnce(&mut dyn Write) -> Result<(), Error>,
 ) -> Result<(), Error> {
     match path {
-        Some(p) if p != "-" => rdaylight::cli::write_atomically(Path::new(p), f),
+        Some(p) if p != "-" => rdaylight::io::write_atomically(Path::new(p), f),
         _ => {
             let mut out = std::io::BufWriter::new(std::io::stdout().lock());
             f(&mut out)?;
@@ -327,7 +327,7 @@ fn run_melanopic(
         }
     }
     if let Some(s) = summary {
-        rdaylight::cli::write_atomically(Path::new(s), |w| {
+        rdaylight::io::write_atomically(Path::new(s), |w| {
             metrics::melanopic::write_summary(w, s, &sums, threshold, positions.as_deref())
         })?;
     }
@@ -339,7 +339,7 @@ fn run_melanopic(
             sums.iter().map(|s| s.mean_medi).collect()
         };
         let bytes = map::png_bytes(&map::render(&xy, &vals)?)?;
-        rdaylight::cli::write_atomically(Path::new(png), |w| {
+        rdaylight::io::write_atomically(Path::new(png), |w| {
             w.write_all(&bytes).map_err(|e| Error::io(png, e))
         })?;
     }
@@ -459,12 +459,12 @@ fn real_main() -> Result<(), Error> {
             .collect();
         let vals: Vec<f64> = res.sensors.iter().map(|s| s.values()[k]).collect();
         let bytes = map::png_bytes(&map::render(&pts, &vals)?)?;
-        rdaylight::cli::write_atomically(Path::new(png), |w| {
+        rdaylight::io::write_atomically(Path::new(png), |w| {
             w.write_all(&bytes).map_err(|e| Error::io(png, e))
         })?;
     }
     if let Some(j) = &cli.json {
-        rdaylight::cli::write_atomically(Path::new(j), |w| {
+        rdaylight::io::write_atomically(Path::new(j), |w| {
             report::write_json(w, &cli.illum, &res, &t, pos)
         })?;
     }

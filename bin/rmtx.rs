@@ -245,7 +245,7 @@ fn real_main() -> Result<(), Error> {
     }
     let mut wopts = WriteOptions::new(format);
     wopts.header = !cli.no_header;
-    wopts.seekable = rdaylight::cli::stdout_is_file();
+    wopts.seekable = rdaylight::io::stdout_is_file();
     wopts.ascii_digits = if all_double {
         DOUBLE_DIGITS
     } else {
@@ -260,7 +260,7 @@ fn real_main() -> Result<(), Error> {
 
     let stdout = std::io::stdout().lock();
     let out = std::io::BufWriter::with_capacity(1 << 16, stdout);
-    let progress = rdaylight::cli::show_progress();
+    let progress = rdaylight::io::show_progress();
     let mut row = vec![0.0; ncols * ncomp];
     let mut done = 0usize;
     let tick = |done: usize| {

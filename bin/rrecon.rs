@@ -3,8 +3,8 @@
 
 use clap::{Args, Parser, Subcommand};
 use rdaylight::Error;
-use rdaylight::cli::write_atomically;
 use rdaylight::error::IoContext;
+use rdaylight::io::write_atomically;
 use rdaylight::recon::cloud::{Bounds, unit_scale};
 use rdaylight::recon::model::fix_t_junctions;
 use rdaylight::recon::openings::Selection;

@@ -304,7 +304,7 @@ fn real_main() -> Result<(), Error> {
         skip_night: cli.skip_night,
     };
     let patches = SkyPatches::new(mf);
-    let show = rdaylight::cli::show_progress();
+    let show = rdaylight::io::show_progress();
     let progress = move |done: usize, total: usize| {
         if show {
             eprint!("\rrspecsky: {done}/{total} time steps");
@@ -329,7 +329,7 @@ fn real_main() -> Result<(), Error> {
     header.set("LATLONG", format!(" {}", latlong(&weather)));
     let mut wopts = WriteOptions::new(format);
     wopts.header = !cli.no_header;
-    wopts.seekable = rdaylight::cli::stdout_is_file();
+    wopts.seekable = rdaylight::io::stdout_is_file();
     wopts.ascii_digits = if format == DataFormat::Double {
         DOUBLE_DIGITS
     } else {
@@ -655,7 +655,7 @@ fn atmosphere_mode(
         .table_dir
         .as_ref()
         .map_or_else(default_cache_dir, std::path::PathBuf::from);
-    if rdaylight::cli::show_progress() {
+    if rdaylight::io::show_progress() {
         eprintln!(
             "rspecsky: {} time steps; atmosphere tables in {} (computed once per climate and AOD)",
             steps.len(),
@@ -685,7 +685,7 @@ fn atmosphere_mode(
     header.set("ATMOSPHERE", format!(" {}", tables.join(", ")));
     let mut wopts = WriteOptions::new(format);
     wopts.header = !cli.no_header;
-    wopts.seekable = rdaylight::cli::stdout_is_file();
+    wopts.seekable = rdaylight::io::stdout_is_file();
     wopts.ascii_digits = if format == DataFormat::Double {
         DOUBLE_DIGITS
     } else {

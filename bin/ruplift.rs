@@ -281,7 +281,7 @@ fn uplifter(c: &Common) -> Result<Uplifter, Error> {
             return Err(Error::Usage("--table is for --method jakob".into()));
         }
         let t = JakobTable::build(space, c.table_res)?;
-        rdaylight::cli::write_atomically(path, |w| t.write(w).at_path(&shown))?;
+        rdaylight::io::write_atomically(path, |w| t.write(w).at_path(&shown))?;
         t
     };
     u.with_table(table)
@@ -350,12 +350,12 @@ fn write_outputs(rows: &[MaterialRow], o: &MaterialOut, command: &str) -> Result
         write_materials(w, rows, uplifter.as_ref(), o.spec, o.rough).at_path("<output>")
     };
     if let Some(t) = &o.csv {
-        rdaylight::cli::write_atomically(t, |w| {
+        rdaylight::io::write_atomically(t, |w| {
             write_material_table(w, rows).at_path(&t.display().to_string())
         })?;
     }
     match &o.output {
-        Some(p) => rdaylight::cli::write_atomically(p, rad),
+        Some(p) => rdaylight::io::write_atomically(p, rad),
         None => {
             let stdout = std::io::stdout();
             let mut out = std::io::BufWriter::new(stdout.lock());

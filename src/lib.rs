@@ -1,44 +1,41 @@
 //! # rdaylight: Radiance-compatible daylight tools for existing rooms
 //!
-//! The library behind the `r*` command-line tools. Everything reads and writes Radiance's own
-//! formats so that any one tool can replace one stage of an existing Radiance pipeline.
+//! The library behind the `r*` command-line tools, as one facade over the workspace's layers
+//! (lowest first; a crate never depends on one above it, so cycles are compile errors):
 //!
-//! - [`formats`]: Radiance's file formats (information header, matrices, pictures, views,
-//!   sensor rays, weather), each parsed with `nom`, streaming where files get large, with
-//!   errors that name file, line and what was expected.
-//! - [`scene`]: the `.rad` scene description: grammar, inline `!commands`, typed primitives.
-//! - [`sky`]: sky patch layouts, solar position, CIE (gensky) and Perez (gendaymtx) skies.
-//! - [`material`]: Radiance's materials for the path tracer (Ward, glass, mirror, sources).
-//! - [`glare`]: glare from fisheye/perspective pictures (DGP, DGI, UGR, ...; evalglare 3.x).
-//! - [`metrics`]: annual daylight metrics (TAI, UDI, DA, sDA, ASE), Appendix-A errors, maps.
-//! - [`rdc`]: the ray-tracing driver (rcontrib / rtrace -I / rpict counterpart) and its
-//!   tracer seam.
-//! - [`radiometry`]: channel layouts (RGB or N spectral bands) shared by every buffer.
-//! - [`info`]: summaries of any file (what `rinfo` prints).
-//! - [`geometry`]: shapes, rays, polygon triangulation and the scene BVH for the ray tracer.
-//! - [`trace`]: the Monte Carlo path tracer (daylight coefficients, irradiance, radiance).
-//! - [`uplift`]: spectral uplifting (RGB -> smooth bounded reflectance; Jakob & Hanika and a
-//!   learned basis), its validation on measured spectra and melanopic effect.
-//! - [`calib`]: calibration against measurements (`rcalib`).
-//! - [`recon`]: laser scan to a watertight room (`rrecon`).
-//! - [`cli`]: what the thin binaries in `bin/` share (exit codes, progress, atomic output).
+//! | layer | crate | modules here |
+//! |---|---|---|
+//! | base | `rdaylight-base` | [`error`], [`radiometry`], [`colour`], [`io`] |
+//! | formats | `rdaylight-formats` | [`formats`], [`scene`], [`info`] |
+//! | core physics | `rdaylight-physics` | [`geometry`], [`material`], [`sky`], [`calc`], [`uplift`] (the method) |
+//! | tracer | `rdaylight-trace` | [`trace`], [`rdc`] |
+//! | analyses | `rdaylight-metrics`, `-glare`, `-reflectance`, `-calib`, `-recon` | [`metrics`], [`glare`], [`uplift`] (pictures, validation), [`calib`], [`recon`] |
+//! | tools | this crate | [`cli`] and the binaries in `bin/` |
+//!
+//! Everything reads and writes Radiance's own formats so that any one tool can replace one
+//! stage of an existing Radiance pipeline. `docs/architecture.md` follows one ray from a
+//! `.rad` file to a matrix file, file by file.
 
-pub mod cal;
-pub mod calib;
 pub mod cli;
-pub mod error;
-pub mod formats;
-pub mod geometry;
-pub mod glare;
-pub mod info;
-pub mod material;
-pub mod metrics;
-pub mod radiometry;
-pub mod rdc;
-pub mod recon;
-pub mod scene;
-pub mod sky;
-pub mod trace;
-pub mod uplift;
 
-pub use error::{Error, Location, Result};
+pub use rdaylight_base::{Error, Location, Result, colour, error, io, radiometry, stats};
+pub use rdaylight_formats::{info, scene};
+pub use rdaylight_physics::{calc, geometry, material, sky};
+pub use rdaylight_trace::{rdc, trace};
+
+pub use rdaylight_calib as calib;
+pub use rdaylight_glare as glare;
+pub use rdaylight_metrics as metrics;
+pub use rdaylight_recon as recon;
+
+/// Radiance's file formats (`rdaylight-formats`).
+pub mod formats {
+    pub use rdaylight_formats::{header, matrix, picture, sensors, view, weather};
+}
+
+/// Spectral uplifting: the method (`rdaylight_physics::uplift`) and reflectances recovered
+/// from pictures with its validation (`rdaylight-reflectance`).
+pub mod uplift {
+    pub use rdaylight_physics::uplift::*;
+    pub use rdaylight_reflectance::{eval, kriging, mask, photo, plot, proxy};
+}

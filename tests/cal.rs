@@ -9,7 +9,7 @@
 
 mod common;
 
-use rdaylight::cal::{Inputs, Program};
+use rdaylight::calc::{Inputs, Program};
 
 /// Definitions shared by the table (a small `.cal` file).
 const DEFS: &str = "

@@ -275,10 +275,7 @@ fn control_reports_nothing() {
     // the range of k over the CCTs the skies and sun use (4000-12000 K), within 0.2 %.
     let ch = rdaylight::radiometry::Channels::spectral(18, 380.0, 780.0).unwrap();
     let shares = rdaylight::sky::spectral::photopic_shares(&ch);
-    let a = rdaylight::material::spectrum::band_integrals(
-        &rdaylight::uplift::colorimetry::tables().cmf[1],
-        &ch,
-    );
+    let a = rdaylight::colour::bands::band_integrals(&rdaylight::colour::cie::tables().cmf[1], &ch);
     let ks: Vec<f64> = [4000.0, 5000.0, 5800.0, 6500.0, 9000.0, 12000.0]
         .iter()
         .map(|&cct| {

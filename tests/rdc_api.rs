@@ -1,12 +1,15 @@
-//! The in-memory API (`rdc::run::Prepared`) gives the same numbers as the `rdc` binary:
-//! library users (rcalib, annual glare) and pipelines see one engine.
+//! The typed in-memory API (`rdc::Config` + `rdc::Tracer`) gives the same numbers as the
+//! `rdc` binary: library users (rcalib, annual glare) and pipelines see one engine, and the
+//! command line maps onto exactly the config a library user would write.
 
 mod common;
 
 use clap::Parser;
+use rdaylight::cli::rdc::{Options, radiance_args};
 use rdaylight::formats::matrix::{Matrix, MatrixReader, ReadOptions};
 use rdaylight::formats::sensors::Ray;
-use rdaylight::rdc::{Options, run::Prepared};
+use rdaylight::rdc::{Config, Sampling, Target, Tracer};
+use rdaylight::scene::{self, LoadOptions};
 
 #[test]
 fn prepared_compute_equals_binary_output() {
@@ -22,7 +25,20 @@ fn prepared_compute_equals_binary_output() {
     cli.extend(args);
     cli.push(room);
     let opts = Options::parse_from(radiance_args(&cli));
-    let prepared = Prepared::new(&opts, false).unwrap();
+    let config = Config {
+        sampling: Sampling {
+            ab: 2,
+            ad: 64,
+            ..Sampling::default()
+        },
+        target: Target::sky(1),
+        irradiance: true,
+        seed: 7,
+        ..Config::default()
+    };
+    assert_eq!(opts.to_config().unwrap(), config);
+    let scene = scene::load(&[room], &LoadOptions::default()).unwrap();
+    let prepared = Tracer::new(&config, &scene).unwrap();
     let rays: Vec<Ray> = sensors
         .lines()
         .map(|l| {
@@ -30,7 +46,7 @@ fn prepared_compute_equals_binary_output() {
             Ray::new([v[0], v[1], v[2]], [v[3], v[4], v[5]])
         })
         .collect();
-    let rows = prepared.compute(&rays, true).unwrap();
+    let rows = prepared.compute(&rays).unwrap();
     assert_eq!(prepared.ncols(), 146);
     assert_eq!(m.nrows, 3);
     for (i, r) in rows.iter().enumerate() {
@@ -45,8 +61,4 @@ fn prepared_compute_equals_binary_output() {
             );
         }
     }
-}
-
-fn radiance_args(cli: &[&str]) -> Vec<String> {
-    rdaylight::rdc::options::radiance_args(cli)
 }

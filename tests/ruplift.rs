@@ -3,8 +3,8 @@
 
 mod common;
 
+use rdaylight::colour::cie::{self, illuminant_e, tables, xy, xyz_weights};
 use rdaylight::scene::{self, LoadOptions, Primitive};
-use rdaylight::uplift::colorimetry::{self, illuminant_e, tables, xy, xyz_weights};
 use rdaylight::uplift::output::{write_rad, write_specfile};
 use rdaylight::uplift::{Method, N, RgbSpace, Uplifter, eval, wavelengths};
 use std::path::Path;
@@ -15,10 +15,10 @@ const METHODS: [Method; 2] = [Method::Basis, Method::Jakob];
 #[test]
 fn white_points_of_the_tables() {
     let white = [1.0; N];
-    let d65 = xy(colorimetry::apply(&xyz_weights(&tables().d65), &white));
+    let d65 = xy(cie::apply(&xyz_weights(&tables().d65), &white));
     assert!((d65.0 - 0.3127).abs() < 1e-3, "{d65:?}");
     assert!((d65.1 - 0.3290).abs() < 1e-3, "{d65:?}");
-    let e = xy(colorimetry::apply(&xyz_weights(&illuminant_e()), &white));
+    let e = xy(cie::apply(&xyz_weights(&illuminant_e()), &white));
     assert!(
         (e.0 - 1.0 / 3.0).abs() < 1e-3 && (e.1 - 1.0 / 3.0).abs() < 1e-3,
         "{e:?}"
@@ -49,7 +49,7 @@ fn in_gamut_round_trip() {
                         );
                         // The reported dE is the real one: recompute from the spectrum.
                         let o = &u.observer;
-                        let de = colorimetry::delta_e(
+                        let de = cie::delta_e(
                             o.lab(o.spectrum_xyz(&up.spectrum)),
                             o.lab(o.rgb_to_xyz([r, g, b])),
                         );
@@ -84,7 +84,7 @@ fn out_of_gamut_behaviour() {
             let target = o.lab(o.rgb_to_xyz(rgb));
             let y = o.rgb_to_xyz(rgb)[1].clamp(0.0, 1.0);
             let grey = o.lab(o.spectrum_xyz(&[y; N]));
-            assert!(up.delta_e <= colorimetry::delta_e(grey, target) + 1e-9);
+            assert!(up.delta_e <= cie::delta_e(grey, target) + 1e-9);
         }
     }
     let out = common::run(
@@ -399,7 +399,7 @@ fn cli_jakob_table() {
             .collect();
         let spec: [f64; N] = s.try_into().unwrap();
         let o = &u.observer;
-        let de = colorimetry::delta_e(o.lab(o.spectrum_xyz(&spec)), o.lab(o.rgb_to_xyz(rgb)));
+        let de = cie::delta_e(o.lab(o.spectrum_xyz(&spec)), o.lab(o.rgb_to_xyz(rgb)));
         assert!(de < 0.1, "{rgb:?}: dE {de}");
     }
     // The basis method has no table; a damaged table is an error naming the file.

@@ -20,9 +20,9 @@
 
 mod common;
 
+use rdaylight::colour::cie::{Observer, RgbSpace, delta_e};
 use rdaylight::formats::picture::Picture;
-use rdaylight::uplift::colorimetry::{Observer, RgbSpace, delta_e};
-use rdaylight::uplift::eval::percentile;
+use rdaylight::stats::percentile;
 use rdaylight::uplift::output::photopic;
 use rdaylight::uplift::photo;
 use std::fmt::Write as _;

@@ -24,17 +24,18 @@
 mod common;
 
 use clap::Parser;
+use rdaylight::cli::rdc::{Options, radiance_args};
+use rdaylight::colour::cie::Observer;
 use rdaylight::formats::sensors::Ray;
 use rdaylight::formats::weather::Weather;
 use rdaylight::metrics::melanopic::{BandWeights, RADIANCE_SPAN_NM};
 use rdaylight::radiometry::Channels;
-use rdaylight::rdc::{Options, options::radiance_args, run::Prepared};
+use rdaylight::rdc::Tracer;
 use rdaylight::sky::SkyPatches;
 use rdaylight::sky::matrix::{Colours, MatrixOptions, radiance_site, time_steps};
 use rdaylight::sky::perez::TimeStep;
 use rdaylight::sky::spectral::spectral_sky_matrix;
 use rdaylight::uplift::basis::{colorchecker, munsell};
-use rdaylight::uplift::colorimetry::Observer;
 use rdaylight::uplift::output::write_rad;
 use rdaylight::uplift::{Method, N, RgbSpace, Spectrum, Uplifter};
 use std::fmt::Write as _;
@@ -265,10 +266,12 @@ fn irradiance(
         path.to_str().unwrap(),
     ];
     let opts = Options::parse_from(radiance_args(&cli));
-    let prepared = Prepared::new(&opts, false).unwrap();
+    let scene =
+        rdaylight::scene::load(&opts.scene, &rdaylight::scene::LoadOptions::from_env()).unwrap();
+    let prepared = Tracer::new(&opts.to_config().unwrap(), &scene).unwrap();
     assert_eq!(prepared.ncols(), sky.nrows());
     let rays: Vec<Ray> = viewpoints().into_iter().map(|(_, r)| r).collect();
-    let rows = prepared.compute(&rays, true).unwrap();
+    let rows = prepared.compute(&rays).unwrap();
     let nt = sky.ncols();
     let mut out = vec![vec![vec![0.0; NCS]; nt]; rays.len()];
     let mut skyrow = Vec::new();
@@ -382,7 +385,7 @@ fn report(r: &Results) -> (String, f64, f64, f64) {
     let _ = writeln!(
         s,
         "\nThe RGB is the measured spectrum's colour in Radiance's RGB (equal-energy white, \
-         CIE 1931 2 deg; `uplift::colorimetry`), the input an RGB-only survey would give. \
+         CIE 1931 2 deg; `colour::cie`), the input an RGB-only survey would give. \
          Reflectance errors are over the 81 wavelengths 380-780 nm (5 nm). Spectra: \
          `data/spectra/macbeth_colorchecker24.csv` and `data/spectra/munsell1269_5nm.csv`.\n\n\
          **Sky**: `rspecsky`'s 18-band Perez sky matrix (MF 1, CIE daylight spectra by sky \
@@ -406,7 +409,7 @@ fn report(r: &Results) -> (String, f64, f64, f64) {
     let _ = writeln!(
         s,
         "\n**Simulation**: `rdc -I -cs 18 -cw 380 780 -ab {AB} -ad {AD} -lw 0 -s {SEED} -m 1` \
-         (daylight coefficients, through `rdc::run::Prepared`), the same seed for the three \
+         (daylight coefficients, through `rdc::Tracer`), the same seed for the three \
          variants so that every path is the same and only the reflectances differ (`-lw 0`: \
          no Russian roulette, whose survival odds depend on the reflectances and would make \
          the paths diverge), times the \

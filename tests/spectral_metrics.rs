@@ -5,9 +5,9 @@
 //! rcontrib -cs 18 coefficients times an rspecsky -cs 18 sky).
 
 mod common;
-use rdaylight::material::spectrum::band_integrals;
+use rdaylight::colour::bands::band_integrals;
+use rdaylight::colour::cie::{N, WL_STEP, tables};
 use rdaylight::radiometry::Channels;
-use rdaylight::uplift::colorimetry::{N, WL_STEP, tables};
 
 fn values(out: &[u8]) -> Vec<f64> {
     let text = String::from_utf8_lossy(out);

@@ -334,7 +334,7 @@ fn coloured_room_spectral_and_rgb_chains_agree_within_noise() {
 
 /// CIE daylight of `cct` as a Radiance `spectrum` primitive (5 nm, 380-780).
 fn daylight_spectrum(name: &str, cct: f64) -> String {
-    let d = rdaylight::uplift::colorimetry::daylight(cct).unwrap();
+    let d = rdaylight::colour::cie::daylight(cct).unwrap();
     let mean = d.iter().sum::<f64>() / d.len() as f64;
     let vals: Vec<String> = d.iter().map(|v| format!("{:.5}", v / mean)).collect();
     format!(

@@ -1,0 +1,23 @@
+//! # rdaylight-base: the lowest layer
+//!
+//! What every other layer shares and nothing in it depends on a higher one:
+//!
+//! - [`error`]: one error type whose user-input errors carry file, line and column;
+//! - [`radiometry`]: channel layouts (RGB or N spectral bands) and Radiance's RGB constants;
+//! - [`colour`]: colour science (CIE tables, observers, band integrals, melanopic weights);
+//! - [`io`]: atomic output (nothing half-written) and stream checks;
+//! - [`stats`]: order statistics (median, percentiles).
+//!
+//! The layers above, lowest first: `rdaylight-formats` (Radiance's file formats and the
+//! `.rad` scene grammar), `rdaylight-physics` (geometry, materials, skies, the `.cal`
+//! language, spectral uplifting), `rdaylight-trace` (the path tracer and its driver), the
+//! analyses (`rdaylight-metrics`, `-glare`, `-reflectance`, `-calib`, `-recon`) and the
+//! tools (the `rdaylight` crate's binaries). `docs/architecture.md` draws them.
+
+pub mod colour;
+pub mod error;
+pub mod io;
+pub mod radiometry;
+pub mod stats;
+
+pub use error::{Error, Location, Result};

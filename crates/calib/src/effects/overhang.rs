@@ -1,0 +1,160 @@
+//! # Overhang (shading) above a window
+//!
+//! A horizontal projection of depth `D` at the head of a window of height `H` hides, for a
+//! direction with profile angle φ (tan φ = d_z / (d · n_out), the altitude projected on the
+//! plane normal to the window: Tregenza & Wilson, *Daylighting*, 2011, sec. 10.2), the
+//! upper `D tan φ` of the opening. So:
+//!
+//! - light of a sky patch or the sun entering the room (what reaches sensors through
+//!   inter-reflection) loses the shaded fraction of that window's share (16 columns);
+//! - the direct view from a sensor through the point at height z of the opening is blocked
+//!   when `z + D tan φ > head` (per sensor, patch and sun; smoothed over 1 cm).
+//!
+//! The overhang is the plate `rcalib apply` writes: as wide as the opening plus `depth` on
+//! each side, so rays leaving obliquely can pass beside it (exact per ray, [`blocked_z`]).
+//! Signature: high sun and high sky, so mostly sun hours and sensors near the window.
+
+use super::{Effect, golden, smooth_step};
+use crate::fit::{Fitter, without};
+use crate::model::{Model, Weights};
+use crate::room::{Window, dot};
+
+/// Columns of the opening sampled by [`shaded`].
+const COLUMNS: usize = 16;
+
+/// The overhang as `rcalib apply` writes it: a plate at the head, `depth` deep, wider than
+/// the opening by `depth` on each side. For a ray leaving the opening at `(u, z)` (along the
+/// wall, height) in direction `d`, the heights `z` whose rays hit the plate: those within
+/// `depth tan(phi)` of the head whose lateral drift up to the head, `k (head - z)` with
+/// `k = (d . t) / d_z`, keeps them within the plate's width. Returns the blocked range of
+/// `z` (possibly empty).
+fn blocked_z(w: &Window, depth: f64, d: [f64; 3], u: f64) -> (f64, f64) {
+    let c = dot(d, w.outward);
+    if c <= 1e-6 || d[2] <= 1e-6 {
+        return (0.0, 0.0);
+    }
+    let tan_phi = d[2] / c;
+    let mut lo = w.head - depth * tan_phi;
+    let mut hi = w.head;
+    let k = dot(d, w.tangent) / d[2];
+    let (a, b) = (w.span.0 - depth, w.span.1 + depth);
+    // u + k (head - z) in [a, b]  <=>  z in [head - (b - u)/k, head - (a - u)/k] (k > 0).
+    if k.abs() > 1e-9 {
+        let (z1, z2) = (w.head - (b - u) / k, w.head - (a - u) / k);
+        lo = lo.max(z1.min(z2));
+        hi = hi.min(z1.max(z2));
+    }
+    (lo, hi)
+}
+
+/// Fraction of the opening `w` shaded for direction `d` (unit, towards the sky), and the
+/// window's projected area towards `d`.
+fn shaded(w: &Window, depth: f64, d: [f64; 3]) -> (f64, f64) {
+    let c = dot(d, w.outward);
+    if c <= 1e-6 {
+        return (0.0, 0.0);
+    }
+    let h = w.height().max(1e-9);
+    let mut f = 0.0;
+    for i in 0..COLUMNS {
+        let u = w.span.0 + (w.span.1 - w.span.0) * (i as f64 + 0.5) / COLUMNS as f64;
+        let (lo, hi) = blocked_z(w, depth, d, u);
+        f += ((hi.min(w.head) - lo.max(w.sill)) / h).clamp(0.0, 1.0);
+    }
+    (f / COLUMNS as f64, w.area * c)
+}
+
+/// Weight of the direct view from `org` along `d` past an overhang on window `w`: 1 when the
+/// ray misses the window (edges smoothed over 1 cm for the fit).
+fn direct(w: &Window, depth: f64, org: [f64; 3], d: [f64; 3]) -> f64 {
+    let c = dot(d, w.outward);
+    let dist = w.depth_of(org);
+    if c <= 1e-6 || dist <= 0.0 {
+        return 1.0;
+    }
+    let t = dist / c;
+    let hit = [org[0] + d[0] * t, org[1] + d[1] * t, org[2] + d[2] * t];
+    let u = dot(hit, w.tangent);
+    if hit[2] < w.sill - 1e-6 || hit[2] > w.head + 1e-6 || u < w.span.0 || u > w.span.1 {
+        return 1.0;
+    }
+    let (lo, hi) = blocked_z(w, depth, d, u);
+    if hi <= lo {
+        return 1.0;
+    }
+    1.0 - smooth_step(hit[2] - lo, 0.01) * smooth_step(hi - hit[2] + 1e-3, 0.01)
+}
+
+/// Multiply the window weights by what the overhang leaves.
+pub fn apply(e: &Effect, m: &Model, wt: &mut Weights) {
+    let Effect::Overhang { window, depth } = *e else {
+        return;
+    };
+    let Some(win) = m.room.windows.get(window) else {
+        return;
+    };
+    let share = |d: [f64; 3]| -> f64 {
+        let (f, a) = shaded(win, depth, d);
+        let total: f64 = m
+            .room
+            .windows
+            .iter()
+            .map(|w| w.area * dot(d, w.outward).max(0.0))
+            .sum();
+        if total > 0.0 { f * a / total } else { 0.0 }
+    };
+    let np = m.comps.npatch;
+    let ns = m.nsens();
+    let hz = m.horizon();
+    let nt = m.nsteps();
+    let mut wd = wt.win_dir.take().unwrap_or_else(|| vec![1.0; ns * np]);
+    for p in 1..np {
+        let d = m.patches.centre(p);
+        wt.win_ind[p] *= 1.0 - share(d);
+        for (s, sensor) in m.sensors.iter().enumerate() {
+            // Over the part of the patch the sensor sees through a window (0.75-degree
+            // cells), else at the patch centre.
+            let org = sensor.ray.org;
+            wd[s * np + p] *= hz
+                .direct_mean(s, p, |c| direct(win, depth, org, c))
+                .unwrap_or_else(|| direct(win, depth, org, d));
+        }
+    }
+    wt.win_dir = Some(wd);
+    let mut sd = wt.sun_win_dir.take().unwrap_or_else(|| vec![1.0; ns * nt]);
+    for (t, sk) in m.skies.iter().enumerate() {
+        if sk.sun_altitude_deg <= 0.0 {
+            continue;
+        }
+        wt.sun_win_ind[t] *= 1.0 - share(sk.sun_dir);
+        for (s, sensor) in m.sensors.iter().enumerate() {
+            sd[s * nt + t] *= direct(win, depth, sensor.ray.org, sk.sun_dir);
+        }
+    }
+    wt.sun_win_dir = Some(sd);
+}
+
+/// Best depth (0 to 3 m) for each window given the other effects.
+pub fn fit(f: &Fitter, base: &[Effect]) -> Option<Effect> {
+    let base = without(base, "overhang");
+    let w0 = f.m.weights(&base);
+    let mut best: Option<(Effect, f64)> = None;
+    for window in 0..f.m.room.windows.len() {
+        let mut eval = |depth: f64| f.m2ll_on(&w0, &Effect::Overhang { window, depth });
+        // Coarse scan first: the profile can have shoulders where suns cross edges.
+        let mut start = (0.0, f64::INFINITY);
+        for k in 0..=12 {
+            let d = 0.25 * k as f64;
+            let s = eval(d);
+            if s < start.1 {
+                start = (d, s);
+            }
+        }
+        let (d, s) = golden(&mut eval, (start.0 - 0.25).max(0.0), start.0 + 0.25, 14);
+        let (d, s) = if s < start.1 { (d, s) } else { start };
+        if best.as_ref().is_none_or(|b| s < b.1) {
+            best = Some((Effect::Overhang { window, depth: d }, s));
+        }
+    }
+    best.map(|b| b.0)
+}

@@ -1,0 +1,682 @@
+//! # Simulating the measured time steps through daylight coefficients
+//!
+//! Illuminance at sensor `s` and time step `t` is computed the way Radiance's five-phase
+//! method does (Subramaniam, *Daylighting simulations with Radiance using matrix-based
+//! methods*, LBNL 2017, ch. 5; radiance-notes 6.6), with `rdc` standing in for rcontrib:
+//!
+//! ```text
+//! E(s,t) = DC(s)·sky(t)  +  [Vsun(s,t) - Cds(s,t)] L_sun(t)  +  Cds(s,t) L_sun(t)
+//! ```
+//!
+//! - `DC`: sky coefficients (`rdc -I -m MF`), all bounces; `DCd`: direct-only ones
+//!   (`--direct`, used by the effects that block direct light); `Cds`: the sun of each
+//!   measured step as a disc (`--suns steps.wea`, direct only, deterministic).
+//! - `Vsun`: the light of unit-radiance sun discs at the steps' positions with all bounces
+//!   (`rdc --suns steps.wea --suns-ab`: every surface a sensor's path meets looks at every
+//!   step's sun), the five-phase method's sun coefficients with inter-reflection. Spreading
+//!   the sun over sky patches and subtracting direct-only from total coefficients instead
+//!   (the DDS shortcut) leaves the Monte Carlo noise of a few samples per patch in the sun
+//!   term: tens of percent.
+//! - `sky(t)`: the gendaymtx Perez sky without the sun (ground patch with reflectance 0.2);
+//!   `L_sun`: the radiance of a 0.533 degree disc (gendaymtx -5).
+//! - RGB irradiance to lux: 179 x (0.265 R + 0.670 G + 0.065 B) (`rmtxop -c 47.4 119.9 11.6`).
+//!
+//! The per-patch terms are kept apart ([`Components`]) because the effects of
+//! [`super::effects`] act on them: an exterior obstruction blocks sky patches and suns, an
+//! overhang blocks the direct part per sensor, a reflectance change alters `DC` and `Vsun`.
+//! Sampling ([`Settings::model`]): each sensor is sampled until its row (the sensor under a
+//! uniform sky; all suns together) is known to 1 % (`rdc --target-se 0.01 --se-row`), so
+//! the back of a deep room gets the samples it needs and the window sensors do not waste
+//! them; bounces end by Russian roulette rather than at a small `-ab`. Against converged
+//! runs the model's values are within 1-2 % RMS (10 m deep room), below the 3-4 % of
+//! real sensors. Reflectance variants of both the sky coefficients and `Vsun` come from one
+//! re-weighted run each ([`Tracer::dc_scaled`], [`Tracer::sun_scaled`]).
+//!
+//! Coefficients are cached on disk ([`super::cache`]): a re-run traces nothing.
+
+use super::cache;
+#[allow(unused_imports)] // named in the documentation
+use super::room::scaled_scene;
+use super::room::{Room, SurfaceClass};
+use crate::error::{Error, Result};
+use crate::formats::sensors::Sensor;
+use crate::formats::weather::Weather;
+use crate::radiometry::Channels;
+use crate::radiometry::{RGB_PHOTOPIC_ROUNDED, WHITE_EFFICACY};
+use crate::rdc::config::SUN_ANGLE_DEG;
+use crate::rdc::{Adaptive, Config, RecordResult, Reweight, Sampling, SunSource, Target};
+use crate::scene::Scene;
+use crate::scene::{LoadOptions, Primitive};
+use crate::sky::matrix::{radiance_site, time_steps};
+use crate::sky::perez::{
+    GENDAYMTX_GROUND_REFLECTANCE, GENDAYMTX_SKY_COLOUR, PerezOptions, perez_sky_vector,
+};
+use crate::sky::{SkyPatches, solar::SunPosition};
+use crate::trace::reweight::Reweighting;
+use std::path::PathBuf;
+
+/// Lux per unit RGB irradiance (W/m2 per channel).
+pub const LUX_RGB: [f64; 3] = [
+    WHITE_EFFICACY * RGB_PHOTOPIC_ROUNDED[0],
+    WHITE_EFFICACY * RGB_PHOTOPIC_ROUNDED[1],
+    WHITE_EFFICACY * RGB_PHOTOPIC_ROUNDED[2],
+];
+
+/// Sampling settings of the coefficient runs (Radiance's letters; `target_se` and
+/// `max_samples` are rdc's `--target-se --se-row` and `--max-samples`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Settings {
+    pub ab: u32,
+    pub ad: usize,
+    pub lw: f64,
+    /// Reinhart subdivision of the sky patches (1 = Tregenza, 146 columns).
+    pub mf: usize,
+    pub seed: u64,
+    /// Relative standard error each sensor's row is sampled to (batches of `ad`): the
+    /// sensor under a uniform sky for sky coefficients, its value for `Vsun`.
+    pub target_se: Option<f64>,
+    /// Cap on samples per sensor with `target_se`.
+    pub max_samples: usize,
+}
+
+impl Settings {
+    /// The model under calibration: `-ab 10 -ad 1024 -lw 5e-5`, each sensor sampled until
+    /// its relative standard error is 1 % (at most 64 batches).
+    ///
+    /// Why these: the calibration can be no better than the simulation, and the readings
+    /// carry ~3.6 % sensor noise, so the simulation's own error must stay well below that
+    /// at every sensor. A fixed `-ad` leaves the back of a deep room (which sees the
+    /// window through a few percent of its hemisphere) at 10-20 % noise, and `-ab 5`
+    /// leaves it 5-11 % low (measured in the 10 m deep test room against -ab 12 with
+    /// 131072 samples); the per-sensor target spends the samples where they are needed,
+    /// and `-lw` at 5 % of the starting weight 1/`-ad` ends paths by roulette (unbiased)
+    /// instead of at a fixed bounce count. With `-lw` above 1/`-ad` (Radiance's meaning:
+    /// ambient samples start at weight 1/`-ad`) every path is rouletted at its first
+    /// bounce and more samples stop helping.
+    pub fn model() -> Settings {
+        Settings {
+            ab: 10,
+            ad: 1024,
+            lw: 5e-5,
+            mf: 1,
+            seed: 1,
+            target_se: Some(0.01),
+            max_samples: 64 * 1024,
+        }
+    }
+    /// Settings for synthetic "truth" measurements: converged (0.5 % per sensor, more
+    /// bounces, another seed), so that the readings' error is the sensor noise alone.
+    /// Against 0.3 % and `-ab 14` the deep test room's values differ by 0.2 % RMS.
+    pub fn truth() -> Settings {
+        Settings {
+            ab: 12,
+            ad: 1024,
+            lw: 2e-5,
+            mf: 1,
+            seed: 7,
+            target_se: Some(0.005),
+            max_samples: 256 * 1024,
+        }
+    }
+    /// The tracer's configuration for these settings (sensors measure irradiance).
+    fn config(&self, target: Target, channels: Channels, reweight: Option<Reweight>) -> Config {
+        Config {
+            sampling: Sampling {
+                ab: self.ab,
+                ad: self.ad,
+                lw: self.lw,
+                ..Sampling::default()
+            },
+            channels,
+            target,
+            irradiance: true,
+            adaptive: self.target_se.map(|target_se| Adaptive {
+                target_se,
+                per_row: true,
+                max_samples: Some(self.max_samples),
+            }),
+            seed: self.seed,
+            reweight,
+            ..Config::default()
+        }
+    }
+}
+
+/// The sky of one measured time step.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StepSky {
+    pub month: u32,
+    pub day: u32,
+    pub hour: f64,
+    /// Sky and ground radiance per patch, `npatch * 3` (no sun).
+    pub sky: Vec<f64>,
+    /// Radiance of the sun disc (gendaymtx -5 0.533), 0 when down.
+    pub sun_radiance: f64,
+    pub sun_altitude_deg: f64,
+    /// Degrees east of north.
+    pub sun_azimuth_deg: f64,
+    /// Unit vector to the sun.
+    pub sun_dir: [f64; 3],
+    /// Perez sky clearness epsilon (1 overcast .. 11.9 clear; 0 at night).
+    pub clearness: f64,
+    pub dni: f64,
+    pub dhi: f64,
+}
+
+/// Skies of the weather steps `idx` at Reinhart subdivision `mf`.
+pub fn step_skies(w: &Weather, idx: &[usize], mf: usize) -> Vec<StepSky> {
+    let patches = SkyPatches::new(mf);
+    let steps = time_steps(w);
+    let site = radiance_site(w);
+    let smear = PerezOptions::default();
+    let disc = PerezOptions {
+        five_phase_sun_deg: Some(0.533),
+        ..PerezOptions::default()
+    };
+    let zero = [0.0; 3];
+    idx.iter()
+        .filter_map(|&i| steps.get(i))
+        .map(|st| {
+            let v = perez_sky_vector(&patches, st, &site, &smear);
+            let v5 = perez_sky_vector(&patches, st, &site, &disc);
+            let pos = SunPosition::at(&site, st.jd, st.hour);
+            StepSky {
+                month: st.month,
+                day: st.day,
+                hour: st.hour,
+                sky: v.to_channels(&GENDAYMTX_SKY_COLOUR, &GENDAYMTX_GROUND_REFLECTANCE, &zero),
+                sun_radiance: v5.sun.first().map_or(0.0, |s| s.1),
+                sun_altitude_deg: pos.altitude.to_degrees(),
+                sun_azimuth_deg: pos
+                    .azimuth_east_of_north(0.0)
+                    .to_degrees()
+                    .rem_euclid(360.0),
+                sun_dir: pos.direction(),
+                clearness: v.state.map_or(0.0, |s| s.epsilon),
+                dni: st.direct,
+                dhi: st.diffuse,
+            }
+        })
+        .collect()
+}
+
+/// A `.wea` holding only the steps `idx` of `w` (for `rdc --suns`).
+pub fn subset_wea(w: &Weather, idx: &[usize]) -> String {
+    let sub = Weather {
+        site: w.site.clone(),
+        units: w.units,
+        steps: idx
+            .iter()
+            .filter_map(|&i| w.steps.get(i).cloned())
+            .collect(),
+        epw_text: None,
+    };
+    sub.to_wea(false)
+}
+
+/// Daylight coefficients of one scene for the sensors and measured steps.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Dcs {
+    pub nsens: usize,
+    pub npatch: usize,
+    pub nsteps: usize,
+    /// `[s][p][c]` all bounces.
+    pub total: Vec<f64>,
+    /// `[s][p][c]` direct only.
+    pub direct: Vec<f64>,
+    /// `[s][t][c]` sun discs of the measured steps (direct).
+    pub sun: Vec<f64>,
+    /// `[s][t][c]` the same suns with all bounces.
+    pub sun_total: Vec<f64>,
+}
+
+/// Re-weighted sky coefficients: `[class][factor]` variants, and the variant with every
+/// tracked class black.
+pub type ScaledDcs = (Vec<Vec<Vec<f64>>>, Vec<f64>);
+
+/// What one traced run computes for every sensor.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Kind {
+    pub what: What,
+    /// RGB, or the bands of a spectral model.
+    pub channels: Channels,
+}
+
+/// The coefficient sets rcalib traces.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum What {
+    /// Sky coefficients over the settings' Reinhart patches (`direct_only`: C_dcd).
+    Sky { direct_only: bool },
+    /// The measured steps' suns (`bounces`: with inter-reflection, `Vsun`).
+    Suns { bounces: bool },
+}
+
+impl Kind {
+    /// RGB coefficients of `what`.
+    pub fn rgb(what: What) -> Kind {
+        Kind {
+            what,
+            channels: Channels::rgb(),
+        }
+    }
+
+    /// The text that identifies the run in cache keys.
+    fn key(&self, mf: usize) -> String {
+        let mut k = match self.what {
+            What::Sky { direct_only } => {
+                format!("-m {mf}{}", if direct_only { " --direct" } else { "" })
+            }
+            What::Suns { bounces } => {
+                format!("--suns SUNS{}", if bounces { " --suns-ab" } else { "" })
+            }
+        };
+        if self.channels != Channels::rgb() {
+            let c = &self.channels;
+            k += &format!(" -cs {} -cw {} {}", c.ncomp, c.splits[3], c.splits[0]);
+        }
+        k
+    }
+
+    fn uses_suns(&self) -> bool {
+        matches!(self.what, What::Suns { .. })
+    }
+}
+
+/// Runs the tracer (in memory, through [`crate::rdc::Tracer`]) with a disk cache.
+pub struct Tracer {
+    pub settings: Settings,
+    pub cache: Option<PathBuf>,
+    /// Where scene texts are written for tracing (the cache, or a private temp dir).
+    work: PathBuf,
+    own_work: bool,
+    sensors_text: String,
+    rays: Vec<crate::formats::sensors::Ray>,
+    /// `.wea` of the measured steps.
+    suns_wea: String,
+    nsteps: usize,
+}
+
+impl Drop for Tracer {
+    fn drop(&mut self) {
+        if self.own_work {
+            let _ = std::fs::remove_dir_all(&self.work);
+        }
+    }
+}
+
+impl Tracer {
+    pub fn new(
+        settings: Settings,
+        cache: Option<PathBuf>,
+        sensors: &[Sensor],
+        suns_wea: String,
+        skies: &[StepSky],
+    ) -> Result<Tracer> {
+        let nsteps = skies.len();
+        let (work, own_work) = match &cache {
+            Some(c) => (c.clone(), false),
+            None => {
+                let n = cache::key(&[suns_wea.as_bytes(), &std::process::id().to_le_bytes()]);
+                (std::env::temp_dir().join(format!("rcalib-{n:016x}")), true)
+            }
+        };
+        std::fs::create_dir_all(&work).map_err(|e| Error::io(work.display().to_string(), e))?;
+        let sensors_text: String = sensors
+            .iter()
+            .map(|s| format!("{:?} {:?}\n", s.ray.org, s.ray.dir))
+            .collect();
+        Ok(Tracer {
+            settings,
+            cache,
+            work,
+            own_work,
+            sensors_text,
+            rays: sensors.iter().map(|s| s.ray).collect(),
+            suns_wea,
+            nsteps,
+        })
+    }
+
+    /// One cached traced run of `scene_text`: the flat values of every sensor row.
+    pub fn run(&self, scene_text: &str, kind: &Kind) -> Result<Vec<f64>> {
+        self.run_with(&self.settings, scene_text, kind)
+    }
+
+    /// [`Tracer::run`] with other sampling settings.
+    fn run_with(&self, settings: &Settings, scene_text: &str, kind: &Kind) -> Result<Vec<f64>> {
+        let settings_key = format!("{settings:?}");
+        let kinds = kind.key(settings.mf);
+        let suns = if kind.uses_suns() {
+            self.suns_wea.as_str()
+        } else {
+            ""
+        };
+        let key = cache::key(&[
+            scene_text.as_bytes(),
+            self.sensors_text.as_bytes(),
+            settings_key.as_bytes(),
+            kinds.as_bytes(),
+            suns.as_bytes(),
+        ]);
+        if let Some(c) = &self.cache {
+            if let Some(v) = cache::load(c, key) {
+                return Ok(v);
+            }
+        }
+        let values: Vec<f64> = self
+            .trace_with(settings, scene_text, kind, None, key)?
+            .into_iter()
+            .flat_map(|r| r.values)
+            .collect();
+        if let Some(c) = &self.cache {
+            cache::store(c, key, &values);
+        }
+        Ok(values)
+    }
+
+    /// One traced run; `key` names the scene in error messages.
+    fn trace(
+        &self,
+        scene_text: &str,
+        kind: &Kind,
+        reweight: Option<Reweight>,
+        key: u64,
+    ) -> Result<Vec<RecordResult>> {
+        self.trace_with(&self.settings, scene_text, kind, reweight, key)
+    }
+
+    fn trace_with(
+        &self,
+        settings: &Settings,
+        scene_text: &str,
+        kind: &Kind,
+        reweight: Option<Reweight>,
+        key: u64,
+    ) -> Result<Vec<RecordResult>> {
+        let name = format!("scene-{key:016x}.rad");
+        let scene =
+            crate::scene::parse_str(scene_text, &name, &self.work, &LoadOptions::from_env())?;
+        let target = match kind.what {
+            What::Sky { direct_only } => Target::Sky {
+                mf: settings.mf,
+                direct_only,
+            },
+            What::Suns { bounces } => Target::Suns {
+                suns: SunSource::Steps(Weather::parse(&self.suns_wea, "steps.wea")?),
+                angle_deg: SUN_ANGLE_DEG,
+                bounces,
+            },
+        };
+        let config = settings.config(target, kind.channels, reweight);
+        crate::rdc::Tracer::new(&config, &scene)?.compute(&self.rays)
+    }
+
+    /// All three coefficient sets of a scene.
+    pub fn dcs(&self, scene: &Scene) -> Result<Dcs> {
+        let text = scene.to_string();
+        let total = self.run(&text, &Kind::rgb(What::Sky { direct_only: false }))?;
+        let direct = self.run(&text, &Kind::rgb(What::Sky { direct_only: true }))?;
+        let sun = self.run(&text, &Kind::rgb(What::Suns { bounces: false }))?;
+        let sun_total = self.sun_total(&text)?;
+        let nsens = self.rays.len();
+        let npatch = SkyPatches::new(self.settings.mf).len();
+        if total.len() != nsens * npatch * 3 || sun.len() != nsens * self.nsteps * 3 {
+            return Err(Error::Mismatch(format!(
+                "rdc returned {} sky and {} sun values for {nsens} sensors, {npatch} patches \
+                 and {} steps",
+                total.len(),
+                sun.len(),
+                self.nsteps
+            )));
+        }
+        Ok(Dcs {
+            nsens,
+            npatch,
+            nsteps: self.nsteps,
+            total,
+            direct,
+            sun,
+            sun_total,
+        })
+    }
+
+    /// `Vsun` of a scene (see [`Tracer::sun_total`]), `[s][t][c]`.
+    pub fn sun_total_of(&self, scene: &Scene) -> Result<Vec<f64>> {
+        self.sun_total(&scene.to_string())
+    }
+
+    /// `Vsun`: the measured steps' suns as unit-radiance discs with every bounce
+    /// (`rdc --suns steps.wea --suns-ab`: at each surface a path meets, next-event
+    /// estimation towards every step's sun), `[s][t][c]`. One set of paths serves every
+    /// step, so each sensor is sampled to the run's target once for all of them; the
+    /// earlier per-step point-in-time runs (a `source` per step) cost three times as much
+    /// for the same error and could not be re-weighted.
+    fn sun_total(&self, text: &str) -> Result<Vec<f64>> {
+        let v = self.run(text, &Kind::rgb(What::Suns { bounces: true }))?;
+        let n = self.rays.len() * self.nsteps * 3;
+        if v.len() != n {
+            return Err(Error::Mismatch(format!(
+                "rdc returned {} sun values, expected {n}",
+                v.len()
+            )));
+        }
+        Ok(v)
+    }
+
+    /// Sky coefficients (all bounces) of `scene` with the reflectance of each class of
+    /// `classes` times each factor of `ks`, `out[class][k]`, from ONE traced run with
+    /// path re-weighting records ([`crate::trace::reweight`]): every variant reuses the
+    /// paths of the model as given (same seed and settings, so the all-ones variant is the
+    /// model's own `total`), which is exact for diffuse reflection and leaves the
+    /// differences between variants free of the Monte Carlo noise that separate re-traces
+    /// of each variant carry (their paths diverge at the first roulette decision). As
+    /// [`scaled_scene`], colours are capped at 0.95. Cached per (class, factor).
+    pub fn dc_scaled(
+        &self,
+        scene: &Scene,
+        room: &Room,
+        classes: &[SurfaceClass],
+        ks: &[f64],
+    ) -> Result<ScaledDcs> {
+        let ncols = SkyPatches::new(self.settings.mf).len();
+        let kind = Kind::rgb(What::Sky { direct_only: false });
+        self.scaled_runs(scene, room, classes, ks, &kind, ncols)
+    }
+
+    /// `Vsun` ([`Tracer::sun_total`]) with class reflectances scaled, as
+    /// [`Tracer::dc_scaled`] does for the sky: one re-weighted run of the sun paths.
+    pub fn sun_scaled(
+        &self,
+        scene: &Scene,
+        room: &Room,
+        classes: &[SurfaceClass],
+        ks: &[f64],
+    ) -> Result<ScaledDcs> {
+        self.scaled_runs(
+            scene,
+            room,
+            classes,
+            ks,
+            &Kind::rgb(What::Suns { bounces: true }),
+            self.nsteps,
+        )
+    }
+
+    /// One re-weighted run of kind `kind` (`ncols` columns per sensor) and its variants.
+    fn scaled_runs(
+        &self,
+        scene: &Scene,
+        room: &Room,
+        classes: &[SurfaceClass],
+        ks: &[f64],
+        kind: &Kind,
+        ncols: usize,
+    ) -> Result<ScaledDcs> {
+        let text = scene.to_string();
+        let kinds = kind.key(self.settings.mf);
+        let suns = if kind.uses_suns() {
+            self.suns_wea.as_str()
+        } else {
+            ""
+        };
+        let variant_key = |c: SurfaceClass, k: f64| {
+            cache::key(&[
+                text.as_bytes(),
+                self.sensors_text.as_bytes(),
+                format!("{:?} {kinds} reweighted {c:?} x {k}", self.settings).as_bytes(),
+                suns.as_bytes(),
+            ])
+        };
+        if let Some(dir) = &self.cache {
+            let cached: Option<Vec<Vec<Vec<f64>>>> = classes
+                .iter()
+                .map(|&c| {
+                    ks.iter()
+                        .map(|&k| cache::load(dir, variant_key(c, k)))
+                        .collect()
+                })
+                .collect();
+            let none = cache::load(dir, variant_key(SurfaceClass::Ground, -1.0));
+            if let (Some(v), Some(n)) = (cached, none) {
+                return Ok((v, n));
+            }
+        }
+        // Every plastic/metal/trans of a class is tracked; its own colour decides the cap.
+        let mut names: Vec<String> = Vec::new();
+        let mut caps: Vec<(SurfaceClass, f64)> = Vec::new();
+        for o in &scene.objects {
+            let Some(&(_, class)) = room.materials.iter().find(|m| m.0 == o.id) else {
+                continue;
+            };
+            if !classes.contains(&class) || names.contains(&o.id) {
+                continue;
+            }
+            if let Primitive::Plastic { color, .. }
+            | Primitive::Metal { color, .. }
+            | Primitive::Trans { color, .. } = &o.kind
+            {
+                names.push(o.id.clone());
+                caps.push((class, color.iter().copied().fold(0.0, f64::max)));
+            }
+        }
+        let key = cache::key(&[
+            text.as_bytes(),
+            names.join(",").as_bytes(),
+            kinds.as_bytes(),
+        ]);
+        // The terms come back in memory with the rows (no file).
+        let reweight = (!names.is_empty()).then(|| Reweight {
+            path: None,
+            materials: Some(names.clone()),
+        });
+        let rows = self.trace(&text, kind, reweight, key)?;
+        let mut rw = Reweighting::new(names.clone(), ncols, 3);
+        for r in &rows {
+            rw.push_row(&r.terms);
+        }
+        let base: Vec<f64> = rows.into_iter().flat_map(|r| r.values).collect();
+        let rw = (!names.is_empty()).then_some(rw);
+        let mut out = Vec::new();
+        for &c in classes {
+            let mut per_k = Vec::new();
+            for &k in ks {
+                let v = match &rw {
+                    Some(rw) => {
+                        let scales: Vec<f64> = rw
+                            .materials
+                            .iter()
+                            .map(|m| match names.iter().position(|n| n == m) {
+                                Some(i) if caps[i].0 == c && caps[i].1 > 0.0 => {
+                                    k.min(0.95 / caps[i].1)
+                                }
+                                _ => 1.0,
+                            })
+                            .collect();
+                        rw.apply(&scales)?
+                    }
+                    None => base.clone(),
+                };
+                if let Some(dir) = &self.cache {
+                    cache::store(dir, variant_key(c, k), &v);
+                }
+                per_k.push(v);
+            }
+            out.push(per_k);
+        }
+        // Every tracked material black: what reaches the sensors without reflection at any
+        // of the classes (direct light, light through untracked materials only).
+        let none = match &rw {
+            Some(rw) => rw.apply(&vec![0.0; rw.materials.len()])?,
+            None => base,
+        };
+        if let Some(dir) = &self.cache {
+            cache::store(dir, variant_key(SurfaceClass::Ground, -1.0), &none);
+        }
+        Ok((out, none))
+    }
+}
+
+fn lux(v: &[f64]) -> f64 {
+    v.iter().zip(LUX_RGB).map(|(a, b)| a * b).sum()
+}
+
+/// The light at every (sensor, step), split into what the effects act on; all in lux.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Components {
+    pub nsens: usize,
+    pub nsteps: usize,
+    pub npatch: usize,
+    /// `[s][t][p]` sky patch p through all bounces.
+    pub sky: Vec<f64>,
+    /// `[s][t][p]` sky patch p seen directly.
+    pub sky_direct: Vec<f64>,
+    /// `[s][t]` inter-reflected sun.
+    pub sun_indirect: Vec<f64>,
+    /// `[s][t]` direct sun.
+    pub sun_direct: Vec<f64>,
+}
+
+impl Components {
+    /// Combine coefficients and skies.
+    pub fn new(d: &Dcs, skies: &[StepSky]) -> Components {
+        let (ns, nt, np) = (d.nsens, skies.len(), d.npatch);
+        let mut c = Components {
+            nsens: ns,
+            nsteps: nt,
+            npatch: np,
+            sky: vec![0.0; ns * nt * np],
+            sky_direct: vec![0.0; ns * nt * np],
+            sun_indirect: vec![0.0; ns * nt],
+            sun_direct: vec![0.0; ns * nt],
+        };
+        for s in 0..ns {
+            for (t, sk) in skies.iter().enumerate() {
+                let base = (s * nt + t) * np;
+                for p in 0..np {
+                    let dc = &d.total[(s * np + p) * 3..][..3];
+                    let dd = &d.direct[(s * np + p) * 3..][..3];
+                    let sky = &sk.sky[p * 3..][..3];
+                    c.sky[base + p] = lux(&[dc[0] * sky[0], dc[1] * sky[1], dc[2] * sky[2]]);
+                    c.sky_direct[base + p] = lux(&[dd[0] * sky[0], dd[1] * sky[1], dd[2] * sky[2]]);
+                }
+                let cs = lux(&d.sun[(s * nt + t) * 3..][..3]);
+                let vs = lux(&d.sun_total[(s * nt + t) * 3..][..3]);
+                c.sun_indirect[s * nt + t] = (vs - cs).max(0.0) * sk.sun_radiance;
+                c.sun_direct[s * nt + t] = cs * sk.sun_radiance;
+            }
+        }
+        c
+    }
+
+    /// Illuminance of every (sensor, step) with nothing changed.
+    pub fn total(&self) -> Vec<f64> {
+        let np = self.npatch;
+        (0..self.nsens * self.nsteps)
+            .map(|i| {
+                self.sky[i * np..(i + 1) * np].iter().sum::<f64>()
+                    + self.sun_indirect[i]
+                    + self.sun_direct[i]
+            })
+            .collect()
+    }
+}

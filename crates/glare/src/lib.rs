@@ -1,0 +1,399 @@
+//! # Glare evaluation of fisheye and perspective pictures (evalglare 3.x counterpart)
+//!
+//! Source: evalglare 3.06 (`src/util/evalglare.c`, `src/util/pictool.c` of Radiance,
+//! J. Wienold, Fraunhofer ISE / EPFL); what its *code* does, documented in
+//! `docs/radiance-notes.md` §9, where it differs from its older man page (v2.10): the default
+//! detection threshold is **2000 cd/m² absolute** (a multiple of the task luminance only
+//! with `-t`/`-T`), and the low-light DGP correction is **off** unless `-C l+` is given.
+//!
+//! Pipeline ([`evaluate`]):
+//! 1. [`pixels`]: per-pixel direction, solid angle (the spherical quadrilateral of the
+//!    pixel's corner rays), luminance and validity, in evalglare's pixel layout;
+//! 2. E_v = Σ cos·ω·L, the mean luminance L̄ = Σ ω L / Σ ω and per-pixel position-weighted
+//!    statistics over valid pixels;
+//! 3. [`detect`]: glare sources (threshold, search-radius merging, peak extraction);
+//! 4. [`posindex`]: each source's position index (Guth above, Iwata below the line of sight);
+//! 5. [`metrics`]: DGP, DGI, UGR, VCP, CGI, Lveil and the others;
+//! 6. [`report`]: evalglare's output lines; [`check`]: the check picture.
+//!
+//! Known residuals: a source's direction (σ, τ, position index, Lveil) is taken at its
+//! centroid *truncated* to a pixel, as evalglare does; a centroid that is an integer in
+//! exact arithmetic (one- or two-pixel sources) can land one pixel apart when the last bits
+//! of the running means differ (seen once in 28 fixtures: Lveil 14088 vs 14479 on
+//! `furnished_clear_window`, every other printed metric equal). `-vth` rim pixels: see
+//! [`pixels`].
+//!
+//! Annual glare without pictures (`rglare annual`, dcglare's counterpart): [`annual`] on
+//! the view rays of [`viewrays`], command line in [`annual_cli`].
+//!
+//! Agreement with evalglare 3.06 is tested on the pictures of `radiance-fixtures/glare/`
+//! and `radiance-fixtures/pictures/` (`tests/rglare.rs`).
+
+use rdaylight_base::{error, radiometry};
+use rdaylight_formats as formats;
+use rdaylight_formats::scene;
+use rdaylight_physics::sky;
+use rdaylight_trace::rdc;
+
+pub mod annual;
+pub mod check;
+pub mod detect;
+pub mod metrics;
+pub mod pixels;
+pub mod posindex;
+pub mod report;
+pub mod viewrays;
+
+pub use detect::{DetectOptions, Detection, Method, Source};
+pub use metrics::{DgpCoefficients, Metrics};
+pub use pixels::Pixels;
+pub use posindex::PosModel;
+
+use crate::error::{Error, Location, Result};
+use crate::formats::picture::Picture;
+use crate::formats::view::{View, ViewType};
+use pixels::dot;
+
+/// Background luminance choice (`-q`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Background {
+    /// `(E_v − E_dir)/π` (`-q 0`, default).
+    #[default]
+    Cosine,
+    /// Mean luminance without the sources (`-q 1`).
+    MeanWithoutSources,
+    /// `E_v/π` (`-q 2`).
+    Ev,
+}
+
+/// Everything that shapes an evaluation.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Options {
+    /// Detection.
+    pub detect: DetectOptions,
+    /// Position-index model (`-P`).
+    pub model: PosModel,
+    /// DGP coefficients (`-w`).
+    pub dgp: DgpCoefficients,
+    /// Low-light correction (`-C l+`).
+    pub low_light: bool,
+    /// Background luminance (`-q`).
+    pub background: Background,
+}
+
+/// One glare source as reported (evalglare's `-d` table row).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SourceReport {
+    /// Pixels.
+    pub npix: f64,
+    /// Centroid x (pixels from the left).
+    pub x: f64,
+    /// Centroid y (pixels from the top, as evalglare prints `ysize − y`).
+    pub y: f64,
+    /// Mean luminance (cd/m²).
+    pub lum: f64,
+    /// Solid angle (sr).
+    pub omega: f64,
+    /// Position index.
+    pub pos: f64,
+    /// Angle from the view direction (deg).
+    pub sigma_deg: f64,
+    /// Direction of the centroid pixel.
+    pub dir: [f64; 3],
+    /// Σ cos·ω·L (lx).
+    pub eglare: f64,
+    /// CIE veiling luminance `10·Eglare/θ²`.
+    pub lveil_cie: f64,
+    /// θ (deg) from the view direction, as used for `lveil_cie`.
+    pub teta: f64,
+    /// Share of the DGP log term: this source's term over the total.
+    pub r_contrast: f64,
+    /// This source's term over DGP.
+    pub r_dgp: f64,
+}
+
+/// The result for one picture.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Evaluation {
+    /// Sources in evalglare's order.
+    pub sources: Vec<SourceReport>,
+    /// Metrics.
+    pub metrics: Metrics,
+    /// Vertical illuminance (lx).
+    pub e_v: f64,
+    /// Direct vertical illuminance from the sources (lx).
+    pub e_dir: f64,
+    /// Mean luminance over valid pixels.
+    pub avlum: f64,
+    /// Background luminance per `-q`.
+    pub lum_backg: f64,
+    /// Task luminance (the mean luminance without a task).
+    pub lum_task: f64,
+    /// Largest pixel luminance.
+    pub abs_max: f64,
+    /// Σω L / Σω of the sources.
+    pub lum_sources: f64,
+    /// Σω of the sources.
+    pub omega_sources: f64,
+    /// Σ Lveil_cie.
+    pub lveil_cie: f64,
+    /// evalglare's `av_lum_pos`: Σ (L/P) ω / Σω.
+    pub av_lum_pos: f64,
+    /// evalglare's `av_lum_pos2`: Σ (L/P²) ω / (Σω)² (divided twice in its code).
+    pub av_lum_pos2: f64,
+    /// Median luminance of valid pixels.
+    pub med_lum: f64,
+    /// Median of L/P.
+    pub med_lum_pos: f64,
+    /// Median of L/P².
+    pub med_lum_pos2: f64,
+    /// Threshold used (cd/m²) and how.
+    pub threshold: f64,
+    /// How the threshold was obtained.
+    pub method: Method,
+    /// Warnings and notices evalglare would print on stderr.
+    pub notices: Vec<String>,
+    /// Source number of every pixel (evalglare layout, renumbered 1..=n, 0 = none); for
+    /// the check picture.
+    pub gsn: Vec<usize>,
+}
+
+/// The view to evaluate `pic` with: its header's `VIEW=` lines, then `user` options on top
+/// (evalglare replaces the header view by the command-line view when one is given).
+/// Errors: no view, parallel view, invalid view.
+pub fn picture_view(pic: &Picture, name: &str, user: Option<&View>) -> Result<View> {
+    let view = match user {
+        Some(v) => *v,
+        None => {
+            let mut v = View::default();
+            if v.apply_header(&pic.header, name)? == 0 {
+                return Err(Error::parse(
+                    Location::file(name),
+                    "no view in the header (no VIEW= line); give one with -vf or -vt/-vh/-vv",
+                ));
+            }
+            v
+        }
+    };
+    if view.vtype == ViewType::Parallel {
+        return Err(Error::parse(
+            Location::file(name),
+            "parallel view (-vtl) cannot be evaluated for glare; expected a fisheye or perspective view",
+        ));
+    }
+    Ok(view)
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    if v.is_empty() {
+        return 0.0;
+    }
+    v.sort_by(|a, b| a.total_cmp(b));
+    let n = v.len();
+    if n % 2 == 0 {
+        (v[n / 2] + v[n / 2 - 1]) / 2.0
+    } else {
+        v[n / 2]
+    }
+}
+
+/// Vertical illuminance only (`-V`).
+pub fn vertical_illuminance(p: &Pixels) -> f64 {
+    let vdir = p.camera.dir();
+    (0..p.dir.len())
+        .filter(|&i| p.inview[i] && p.valid[i])
+        .map(|i| dot(vdir, p.dir[i]) * p.omega[i] * p.lum[i])
+        .sum()
+}
+
+/// Evaluate one picture with a view already chosen.
+pub fn evaluate(pic: &Picture, view: &View, opts: &Options) -> Result<Evaluation> {
+    let camera = view.setup()?;
+    let p = Pixels::new(pic, camera);
+    Ok(evaluate_pixels(&p, opts))
+}
+
+/// Evaluate prepared pixels.
+pub fn evaluate_pixels(p: &Pixels, opts: &Options) -> Evaluation {
+    use rayon::prelude::*;
+    let vdir = p.camera.dir();
+    let vup = p.camera.view().vu;
+    let model = opts.model;
+    let mut notices = Vec::new();
+    if p.camera.view().vtype == ViewType::Perspective {
+        notices.push("warning: image has perspective view type specified in header !".into());
+    }
+
+    // pass over valid pixels: E_v, mean luminance, position-weighted statistics
+    struct Acc {
+        sang: f64,
+        e_v: f64,
+        avlum: f64,
+        abs_max: f64,
+        pos1: f64,
+        pos2: f64,
+    }
+    let valid: Vec<usize> = (0..p.dir.len())
+        .filter(|&i| p.inview[i] && p.valid[i])
+        .collect();
+    let per: Vec<(f64, f64)> = valid
+        .par_iter()
+        .map(|&i| {
+            let pos = posindex::posindex(vdir, vup, p.dir[i], model);
+            (p.lum[i] / pos, p.lum[i] / pos / pos)
+        })
+        .collect();
+    let mut a = Acc {
+        sang: 0.0,
+        e_v: 0.0,
+        avlum: 0.0,
+        abs_max: 0.0,
+        pos1: 0.0,
+        pos2: 0.0,
+    };
+    for (k, &i) in valid.iter().enumerate() {
+        let (om, l) = (p.omega[i], p.lum[i]);
+        a.abs_max = a.abs_max.max(l);
+        a.sang += om;
+        a.e_v += dot(vdir, p.dir[i]) * om * l;
+        a.avlum += om * l;
+        a.pos1 += per[k].0 * om;
+        a.pos2 += per[k].1 * om;
+    }
+    let av_lum_pos = a.pos1 / a.sang;
+    let av_lum_pos2 = a.pos2 / a.sang / a.sang;
+    let med_lum = median(valid.iter().map(|&i| p.lum[i]).collect());
+    let med_lum_pos = median(per.iter().map(|t| t.0).collect());
+    let med_lum_pos2 = median(per.iter().map(|t| t.1).collect());
+    let e_v = a.e_v;
+    let avlum = a.avlum / a.sang;
+
+    let det = detect::detect(p, &opts.detect, avlum);
+    notices.extend(det.warnings.iter().map(|w| format!("warning: {w}")));
+
+    // active sources in internal order, renumbered 1..=n
+    let mut renum = vec![0usize; det.sources.len()];
+    let mut active = Vec::new();
+    for (g, s) in det.sources.iter().enumerate() {
+        if s.npix > 0.0 {
+            active.push(g);
+            renum[g] = active.len();
+        }
+    }
+    // fold from +0: an empty f64 sum is −0, which would print as "-0.000000"
+    let e_dir = active.iter().fold(0.0, |s, &g| s + det.sources[g].eglare);
+    let lum_backg_cos = (e_v - e_dir) / metrics::PI_EG;
+
+    let mut terms = Vec::with_capacity(active.len());
+    let mut dirs = Vec::with_capacity(active.len());
+    for &g in &active {
+        let s = &det.sources[g];
+        let d = p.dir_at(s.posx, s.posy).unwrap_or([0.0; 3]);
+        let ang = posindex::angles(vdir, vup, d);
+        terms.push(metrics::SourceTerm {
+            lum: s.lum,
+            omega: s.omega,
+            pos: posindex::posindex(vdir, vup, d, model),
+            sigma: ang.sigma,
+        });
+        dirs.push(d);
+    }
+    let lum_sources_sum: f64 = terms.iter().map(|t| t.lum * t.omega).sum();
+    let omega_sources: f64 = terms.iter().map(|t| t.omega).sum();
+    let lum_backg = match opts.background {
+        Background::Cosine => lum_backg_cos,
+        Background::Ev => e_v / metrics::PI_EG,
+        Background::MeanWithoutSources => {
+            if a.sang == omega_sources {
+                avlum
+            } else {
+                (a.sang * avlum - lum_sources_sum) / (a.sang - omega_sources)
+            }
+        }
+    };
+    let lum_sources = if terms.is_empty() {
+        0.0
+    } else {
+        lum_sources_sum / omega_sources
+    };
+    let m = metrics::metrics(
+        &terms,
+        e_v,
+        e_dir,
+        lum_backg,
+        lum_backg_cos,
+        avlum,
+        &opts.dgp,
+        opts.low_light,
+    );
+
+    // the per-source table
+    let c2 = opts.dgp.c[1];
+    let a3 = opts.dgp.a[2];
+    let sum_term: f64 = terms
+        .iter()
+        .map(|t| t.lum.powi(2) * t.omega / t.pos.powi(2))
+        .sum();
+    let sum_glare = c2 * (1.0 + sum_term / e_v.powf(a3)).log10();
+    let mut sources = Vec::with_capacity(active.len());
+    let mut lveil_cie = 0.0;
+    for (k, &g) in active.iter().enumerate() {
+        let s = &det.sources[g];
+        let t = &terms[k];
+        let teta = posindex::DEG * dot(vdir, dirs[k]).acos();
+        let lc = 10.0 * s.eglare / (teta * teta + 0.0000000000000001);
+        lveil_cie += lc;
+        let r_glare = c2 * (1.0 + t.lum.powi(2) * t.omega / t.pos.powi(2) / e_v.powf(a3)).log10();
+        sources.push(SourceReport {
+            npix: s.npix,
+            x: s.posx,
+            y: p.yres as f64 - s.posy,
+            lum: s.lum,
+            omega: s.omega,
+            pos: t.pos,
+            sigma_deg: t.sigma * posindex::DEG,
+            dir: dirs[k],
+            eglare: s.eglare,
+            lveil_cie: lc,
+            teta,
+            r_contrast: r_glare / sum_glare,
+            r_dgp: r_glare / m.dgp_raw,
+        });
+    }
+
+    if e_v < 100.0 {
+        notices.push("Notice: Vertical illuminance is below 100 lux !!".into());
+    }
+    if m.dgp <= 0.2 {
+        notices.push(
+            "Notice: Low brightness scene. dgp below 0.2! dgp might underestimate glare sources"
+                .into(),
+        );
+    }
+    if e_v < 380.0 {
+        notices.push("Notice: Low brightness scene. Vertical illuminance less than 380 lux! dgp might underestimate glare sources".into());
+    }
+    let gsn = det.gsn.iter().map(|&g| renum[g]).collect();
+    Evaluation {
+        sources,
+        metrics: m,
+        e_v,
+        e_dir,
+        avlum,
+        lum_backg,
+        lum_task: det.lum_task,
+        abs_max: a.abs_max,
+        lum_sources,
+        omega_sources,
+        lveil_cie,
+        av_lum_pos,
+        av_lum_pos2,
+        med_lum,
+        med_lum_pos,
+        med_lum_pos2,
+        threshold: det.threshold,
+        method: det.method,
+        notices,
+        gsn,
+    }
+}

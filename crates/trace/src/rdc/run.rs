@@ -1,0 +1,827 @@
+//! # The parallel driver
+//!
+//! Records (sensors from standard input, or picture pixels) are processed in blocks: a block
+//! is read, its records are computed in parallel with rayon, and its rows are written in
+//! input order before the next block is read, so memory holds one block of rows whatever the
+//! input size (the block shrinks for wide rows: at most [`BLOCK_BYTES`] of results).
+//!
+//! Determinism: record `i` draws from [`record_rng`]`(seed, i)` and is computed start to end
+//! by one thread, so the output is a function of the inputs and `-s` only, never of `-n`.
+//!
+//! Per record: batches of `-ad` samples go to the [`Estimator`]; without `--target-se` one
+//! batch is taken, with it batches continue until the record's relative standard error
+//! ([`Tally::relative_se`]) is at most the target or `--max-samples` is reached. The value
+//! written is the mean over all samples taken.
+
+use super::config::{Config, IRRADIANCE_OFFSET, MAX_MF, RPICT_RES, Sampling, SunSource, Target};
+use super::intake;
+use super::output::{self, Sink};
+use super::traced::Traced;
+use super::tracer::{
+    Estimator, Mode, Quantity, Query, Rng, Stratum, SunDisc, Tally, TraceParams, normalized,
+    record_rng,
+};
+use crate::error::{Error, Location, Result};
+use crate::formats::matrix::DataFormat;
+use crate::formats::sensors::{Ray, RayFormat, RayReader};
+use crate::formats::view::{Camera, View};
+use crate::material::ShadingOptions;
+use crate::radiometry::{Channels, RGB_PHOTOPIC, RGB_PHOTOPIC_ROUNDED, WHITE_EFFICACY};
+use crate::scene::{LoadOptions, Scene};
+use crate::sky::SkyPatches;
+use crate::trace::Renderable;
+use crate::trace::reweight::{RowWriter, Signature};
+use rand::Rng as _;
+use rayon::prelude::*;
+use std::io::{BufRead, Write};
+
+/// Upper bound on the results held for one block (bytes of f64 rows).
+pub const BLOCK_BYTES: usize = 64 << 20;
+/// Records per block at most (keeps progress reports and latency reasonable).
+pub const BLOCK_RECORDS: usize = 4096;
+
+/// One record's result.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RecordResult {
+    /// `ncols * ncomp` values.
+    pub values: Vec<f64>,
+    /// Relative standard error ([`Tally::relative_se`]).
+    pub rel_se: f64,
+    pub samples: u64,
+    /// Re-weighting terms `(column, signature, ncomp means)` when the job keeps them.
+    pub terms: Vec<(u32, Signature, Vec<f64>)>,
+}
+
+/// What every record shares.
+pub struct Job<'a> {
+    pub estimator: &'a dyn Estimator,
+    pub mode: Mode<'a>,
+    pub ncomp: usize,
+    /// Channel weights of the scalar whose variance is tracked.
+    pub weights: Vec<f64>,
+    pub ad: usize,
+    pub target_se: Option<f64>,
+    /// `--se-row`: `target_se` bounds the row sum's error ([`Tally::row_relative_se`]).
+    pub se_row: bool,
+    pub max_samples: usize,
+    pub seed: u64,
+    /// Keep re-weighting terms per record (`--reweight`).
+    pub terms: bool,
+}
+
+impl Job<'_> {
+    /// Compute record `index`; `query` gives the sample's ray (`None`: a zero sample, e.g. a
+    /// flush ray or a pixel corner outside a fisheye).
+    pub fn compute(
+        &self,
+        index: u64,
+        query: &dyn Fn(&mut Rng) -> Option<Query>,
+        tally: &mut Tally,
+    ) -> RecordResult {
+        tally.clear();
+        let mut rng = record_rng(self.seed, index);
+        loop {
+            for k in 0..self.ad {
+                if let Some(q) = query(&mut rng) {
+                    let stratum = Stratum {
+                        index: k,
+                        count: self.ad,
+                    };
+                    self.estimator
+                        .sample(&q, &self.mode, stratum, &mut rng, tally);
+                }
+                tally.end_sample();
+            }
+            match self.target_se {
+                None => break,
+                Some(t) => {
+                    let se = if self.se_row {
+                        tally.row_relative_se()
+                    } else {
+                        tally.relative_se()
+                    };
+                    if se <= t || tally.samples() as usize >= self.max_samples {
+                        break;
+                    }
+                }
+            }
+        }
+        let mut values = vec![0.0; tally.ncols() * tally.ncomp()];
+        tally.mean_into(&mut values);
+        RecordResult {
+            values,
+            rel_se: if self.se_row {
+                tally.row_relative_se()
+            } else {
+                tally.relative_se()
+            },
+            samples: tally.samples(),
+            terms: tally.terms(),
+        }
+    }
+
+    /// Compute a block of records in parallel; results in input order.
+    pub fn block<T: Sync>(
+        &self,
+        first_index: u64,
+        items: &[T],
+        query: &(dyn Fn(&T, &mut Rng) -> Option<Query> + Sync),
+    ) -> Vec<RecordResult> {
+        let ncols = self.mode.ncols();
+        items
+            .par_iter()
+            .enumerate()
+            .with_min_len(4)
+            .map_init(
+                || {
+                    let t = Tally::new(ncols, self.ncomp, &self.weights);
+                    if self.terms { t.with_terms() } else { t }
+                },
+                |tally, (i, item)| {
+                    self.compute(first_index + i as u64, &|rng| query(item, rng), tally)
+                },
+            )
+            .collect()
+    }
+
+    /// Records per block for this row width.
+    pub fn block_len(&self) -> usize {
+        let row = (self.mode.ncols() * self.ncomp * 8).max(1);
+        (BLOCK_BYTES / row).clamp(1, BLOCK_RECORDS)
+    }
+}
+
+/// A scene compiled for one [`Config`]: the typed entry point of the tracer. `rdc` builds
+/// one per run; library callers (calibration, annual glare, levels of detail, material
+/// uncertainty, shards) build theirs from an in-memory [`Scene`] and compute records with
+/// [`Tracer::compute`].
+///
+/// ```no_run
+/// use rdaylight_formats::scene::{self, LoadOptions};
+/// use rdaylight_formats::sensors::Ray;
+/// use rdaylight_trace::rdc::{Config, Sampling, Tracer};
+/// let scene = scene::load(&["room.rad"], &LoadOptions::default())?;
+/// let config = Config::sky_coefficients(1, Sampling { ab: 3, ad: 512, ..Sampling::default() });
+/// let tracer = Tracer::new(&config, &scene)?;
+/// let rows = tracer.compute(&[Ray::new([3.0, 2.0, 0.8], [0.0, 0.0, 1.0])])?;
+/// assert_eq!(rows[0].values.len(), 146 * 3);
+/// # Ok::<(), rdaylight_base::Error>(())
+/// ```
+pub struct Tracer {
+    pub channels: Channels,
+    config: Config,
+    estimator: Traced,
+    patches: Option<SkyPatches>,
+    suns: Option<Vec<SunDisc>>,
+    /// Where `--reweight` terms go (the estimator then tracks materials).
+    reweight: Option<ReweightOut>,
+    /// `--stats` figures: compile time, surfaces, primitives, BVH build.
+    compile_time: std::time::Duration,
+    nsurfaces: usize,
+    nprims: usize,
+    bvh_build: std::time::Duration,
+}
+
+impl Tracer {
+    /// Compile `scene` for `config` (validated first). Errors (unsupported primitives, bad
+    /// settings, a point-in-time run without a sky) come with file:line before any input.
+    pub fn new(config: &Config, scene: &Scene) -> Result<Tracer> {
+        Tracer::build(config, scene, &[], &[])
+    }
+
+    /// As [`Tracer::new`]; `names` (the scene's inputs) go into the no-sky error and
+    /// `command` into the `--reweight` file's header.
+    fn build(
+        config: &Config,
+        scene: &Scene,
+        names: &[String],
+        command: &[String],
+    ) -> Result<Tracer> {
+        config.validate(false)?;
+        scene.check_supported(intake::SUPPORTED)?;
+        let sampling = config.sampling;
+        let channels = config.channels;
+        let t_start = std::time::Instant::now();
+        // Compile the surfaces (materials through modifier chains, one BVH) before any
+        // input is read: unsupported primitives stop here with file:line.
+        let shading = ShadingOptions {
+            dj: sampling.dj,
+            st: sampling.st,
+            uplift: config.uplift,
+            ..ShadingOptions::rcontrib()
+        };
+        let renderable = Renderable::compile(scene, &channels, &shading)?;
+        let compile_time = t_start.elapsed();
+        let nsurfaces = renderable.surface_count();
+        let nprims = renderable.bvh().primitive_count();
+        let bvh_build = renderable.bvh().build_time();
+        let (patches, suns) = match &config.target {
+            Target::Values => {
+                check_sky(&renderable, names)?;
+                (None, None)
+            }
+            Target::Sky { mf, .. } => (Some(SkyPatches::new(*mf)), None),
+            Target::Suns {
+                suns, angle_deg, ..
+            } => (None, Some(sun_discs(suns, *angle_deg)?)),
+        };
+        let params = trace_params(&sampling);
+        let tracking = match &config.reweight {
+            Some(r) => Some(renderable.tracking(scene, r.materials.as_deref())?),
+            None => None,
+        };
+        let mut estimator = Traced::new(renderable, &params, sampling.ad);
+        let mut reweight = None;
+        if let (Some(r), Some(t)) = (&config.reweight, tracking) {
+            reweight = r.path.as_ref().map(|path| ReweightOut {
+                path: path.clone(),
+                materials: t.names.clone(),
+                command: command.join(" "),
+            });
+            estimator = estimator.with_tracking(t);
+        }
+        Ok(Tracer {
+            channels,
+            config: config.clone(),
+            estimator,
+            patches,
+            suns,
+            reweight,
+            compile_time,
+            nsurfaces,
+            nprims,
+            bvh_build,
+        })
+    }
+
+    /// The configuration this tracer was built for.
+    pub fn config(&self) -> &Config {
+        &self.config
+    }
+
+    /// The job every record shares: mode (sky patches, suns or the scene's sky), sampling
+    /// and seed.
+    pub fn job(&self) -> Job<'_> {
+        let mode = match (&self.config.target, &self.patches, &self.suns) {
+            (Target::Sky { direct_only, .. }, Some(p), _) => Mode::Sky {
+                patches: p,
+                direct_only: *direct_only,
+            },
+            (Target::Suns { bounces, .. }, _, Some(s)) => Mode::Suns {
+                suns: s,
+                bounces: *bounces,
+            },
+            _ => Mode::Values,
+        };
+        let weights = if self.channels.ncomp == 3 {
+            RGB_PHOTOPIC.to_vec()
+        } else {
+            vec![1.0 / self.channels.ncomp as f64; self.channels.ncomp]
+        };
+        Job {
+            estimator: &self.estimator,
+            mode,
+            ncomp: self.channels.ncomp,
+            weights,
+            ad: self.config.sampling.ad,
+            target_se: self.config.adaptive.map(|a| a.target_se),
+            se_row: self.config.adaptive.is_some_and(|a| a.per_row),
+            max_samples: self
+                .config
+                .adaptive
+                .and_then(|a| a.max_samples)
+                .unwrap_or(100 * self.config.sampling.ad),
+            seed: self.config.seed,
+            terms: self.config.reweight.is_some(),
+        }
+    }
+
+    /// A thread pool of `-n` workers (all cores by default).
+    pub fn pool(&self) -> Result<rayon::ThreadPool> {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(self.config.threads.unwrap_or(0))
+            .build()
+            .map_err(|e| Error::Usage(format!("-n: cannot start threads: {e}")))
+    }
+
+    /// Records for `rays` in memory, in input order: sensor rows (irradiance when the
+    /// config says so) of sky coefficients, sun coefficients or point-in-time values; each
+    /// [`RecordResult`] holds `ncols * ncomp` values (columns outer). Record `i` is seeded as
+    /// row `i` of the `rdc` tool, so the numbers equal its output.
+    pub fn compute(&self, rays: &[Ray]) -> Result<Vec<RecordResult>> {
+        let job = self.job();
+        let irradiance = self.config.irradiance;
+        let query = move |r: &Ray, _: &mut Rng| sensor_query(r, irradiance);
+        let pool = self.pool()?;
+        Ok(pool.install(|| {
+            let mut out = Vec::with_capacity(rays.len());
+            for (b, block) in rays.chunks(job.block_len()).enumerate() {
+                let first = (b * job.block_len()) as u64;
+                out.extend(job.block(first, block, &query));
+            }
+            out
+        }))
+    }
+
+    /// Columns per record (patches, suns, or 1 for values).
+    pub fn ncols(&self) -> usize {
+        self.job().mode.ncols()
+    }
+}
+
+/// What the `rdc` tool does beyond the tracer's [`Config`]: where the scene and the
+/// records come from, and how results are written.
+#[derive(Debug, Clone)]
+pub struct Run {
+    pub config: Config,
+    /// Scene inputs as `oconv` names them (paths, `-`, `!command`).
+    pub scene: Vec<String>,
+    pub load: LoadOptions,
+    /// Sensor ray input format (`-fa`, `-ff`, `-fd`).
+    pub input: RayFormat,
+    /// Output data format (`-f?a`, `-f?f`, `-f?d`, `-f?c`).
+    pub output: DataFormat,
+    /// Write the information header (`-h` turns it off).
+    pub header: bool,
+    /// `-oi`: RGB irradiance to illuminance in lux.
+    pub illuminance: bool,
+    /// Picture mode (view options).
+    pub view: Option<View>,
+    /// `-x`, `-y`: picture size, or with sensors `-y` = the number of sensors (streaming).
+    pub x: Option<usize>,
+    pub y: Option<usize>,
+    /// `-o FILE`: the picture to a file (`.exr` for OpenEXR).
+    pub picture_file: Option<String>,
+    /// `--se-out FILE`: per-record standard errors and sample counts.
+    pub se_out: Option<String>,
+    /// `--stats`: load, compile and trace figures on stderr.
+    pub stats: bool,
+    /// The command line, for headers.
+    pub command: Vec<String>,
+}
+
+impl Run {
+    /// The rules that involve the streams as well as the tracer.
+    pub fn validate(&self) -> Result<()> {
+        self.config.validate(self.view.is_some())?;
+        if self.illuminance && (!self.config.irradiance || self.config.channels.ncomp != 3) {
+            return Err(Error::Usage(
+                "-oi needs -I and RGB channels (illuminance from irradiance)".into(),
+            ));
+        }
+        if self.picture_file.is_some()
+            && (self.view.is_none() || self.config.target.is_coefficients())
+        {
+            return Err(Error::Usage(
+                "-o FILE writes pictures: give view options (-vt.. -vp ..) and no -m/--suns".into(),
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// Everything `rdc` does after option parsing: load and compile the scene, then stream
+/// sensors from standard input (or the picture's pixels) to standard output.
+pub fn main(run: &Run) -> Result<()> {
+    run.validate()?;
+    // Scene first: its errors come before anything is read or written.
+    let t_start = std::time::Instant::now();
+    let scene = crate::scene::load(&run.scene, &run.load)?;
+    let load_time = t_start.elapsed();
+    let tracer = Tracer::build(&run.config, &scene, &run.scene, &run.command)?;
+    drop(scene);
+    let channels = tracer.channels;
+    let job = tracer.job();
+    let pool = tracer.pool()?;
+    let out_channels = if run.illuminance {
+        Channels::mono()
+    } else {
+        channels
+    };
+    let stdout = std::io::stdout();
+    let seekable = crate::io::stdout_is_file();
+    let reweight = tracer.reweight.as_ref();
+    let t_trace = std::time::Instant::now();
+    let result = pool.install(|| match &run.view {
+        Some(v) => picture(run, &job, *v, out_channels, seekable, reweight),
+        None => {
+            let stdin = std::io::stdin();
+            let reader = RayReader::new(stdin.lock(), "<stdin>", run.input);
+            sensors(
+                run,
+                &job,
+                reader,
+                out_channels,
+                (stdout.lock(), seekable),
+                reweight,
+            )
+        }
+    });
+    if run.stats {
+        let trace = t_trace.elapsed().as_secs_f64();
+        let rays = tracer.estimator.rays();
+        eprintln!(
+            "rdc: load {:.3} s, compile {:.3} s (BVH build {:.3} s; {} surfaces, {} primitives), trace {trace:.3} s, {rays} path rays, {:.3e} rays/s",
+            load_time.as_secs_f64(),
+            tracer.compile_time.as_secs_f64(),
+            tracer.bvh_build.as_secs_f64(),
+            tracer.nsurfaces,
+            tracer.nprims,
+            rays as f64 / trace.max(1e-9)
+        );
+    }
+    result
+}
+
+fn check_sky(r: &Renderable, scene: &[String]) -> Result<()> {
+    if r.sources().is_empty() {
+        let what = if scene.is_empty() {
+            "no sky in the scene".to_string()
+        } else {
+            format!("no sky in {}", scene.join(" "))
+        };
+        return Err(Error::Usage(format!(
+            "{what}: point-in-time values need glow or light sources (gensky + skyglow.rad); \
+             use -m MF for sky coefficients"
+        )));
+    }
+    Ok(())
+}
+
+/// What the tracer receives of the sampling settings.
+pub fn trace_params(s: &Sampling) -> TraceParams {
+    TraceParams {
+        ab: s.ab,
+        lw: s.lw,
+        lr: s.lr,
+        dj: s.dj,
+        st: s.st,
+        ss: s.ss,
+    }
+}
+
+/// Suns for `--suns`: a number = Reinhart patch centres (ground column empty), otherwise a
+/// weather file = one sun per time step (an empty column while the sun is down).
+pub fn sun_discs(suns: &SunSource, angle: f64) -> Result<Vec<SunDisc>> {
+    let none = SunDisc {
+        dir: [0.0, 0.0, -1.0],
+        cos_half: 2.0, // contains no direction
+        solid_angle: 0.0,
+    };
+    let read;
+    let w = match suns {
+        SunSource::Weather(path) => {
+            read = crate::formats::weather::Weather::read_path(path)?;
+            &read
+        }
+        SunSource::Steps(w) => w,
+        &SunSource::Patches(mf) => {
+            if mf == 0 || mf > MAX_MF {
+                return Err(Error::Usage(format!(
+                    "--suns {mf}: expected a Reinhart subdivision from 1 to {MAX_MF}"
+                )));
+            }
+            let p = SkyPatches::new(mf);
+            return Ok((0..p.len())
+                .map(|i| {
+                    if i == 0 {
+                        none
+                    } else {
+                        SunDisc::new(p.centre(i), angle)
+                    }
+                })
+                .collect());
+        }
+    };
+    let site = crate::sky::Site {
+        latitude: w.site.latitude_deg_n,
+        longitude_west: -w.site.longitude_deg_e,
+        meridian_west: -15.0 * w.site.time_zone_hours_e,
+    };
+    let mut leap = crate::sky::solar::LeapDayTracker::new();
+    Ok(w.steps
+        .iter()
+        .map(|s| {
+            let jd = leap.day_of_year(u32::from(s.month), u32::from(s.day));
+            let pos = crate::sky::SunPosition::at(&site, jd, s.hour);
+            if pos.altitude > 0.0 {
+                SunDisc::new(pos.direction(), angle)
+            } else {
+                none
+            }
+        })
+        .collect())
+}
+
+/// The sensor's query: `-I` moves the origin 1.1e-4 along the normal (rcontrib's
+/// `eval_irrad`); a zero direction (rtrace's flush) gives an empty record.
+fn sensor_query(ray: &Ray, irradiance: bool) -> Option<Query> {
+    if ray.is_flush() {
+        return None;
+    }
+    let dir = normalized(ray.dir);
+    let (org, quantity) = if irradiance {
+        let o = ray.org;
+        (
+            [
+                o[0] + IRRADIANCE_OFFSET * dir[0],
+                o[1] + IRRADIANCE_OFFSET * dir[1],
+                o[2] + IRRADIANCE_OFFSET * dir[2],
+            ],
+            Quantity::Irradiance,
+        )
+    } else {
+        (ray.org, Quantity::Radiance)
+    };
+    Some(Query { org, dir, quantity })
+}
+
+/// `-oi`: RGB irradiance to illuminance, 179 x (0.265, 0.670, 0.065) per column.
+fn to_output(values: &[f64], oi: bool) -> Vec<f64> {
+    if !oi {
+        return values.to_vec();
+    }
+    values
+        .chunks_exact(3)
+        .map(|c| {
+            WHITE_EFFICACY
+                * (RGB_PHOTOPIC_ROUNDED[0] * c[0]
+                    + RGB_PHOTOPIC_ROUNDED[1] * c[1]
+                    + RGB_PHOTOPIC_ROUNDED[2] * c[2])
+        })
+        .collect()
+}
+
+/// Progress on a terminal only.
+struct Progress {
+    show: bool,
+    total: Option<usize>,
+}
+
+impl Progress {
+    fn update(&self, done: usize) {
+        if self.show {
+            match self.total {
+                Some(t) => eprint!("\rrdc: {done} / {t} records"),
+                None => eprint!("\rrdc: {done} records"),
+            }
+        }
+    }
+    fn end(&self) {
+        if self.show {
+            eprintln!();
+        }
+    }
+}
+
+/// Sensor mode: rays from `reader`, one output row per ray.
+#[allow(clippy::too_many_arguments)]
+pub fn sensors<R: BufRead, W: Write>(
+    run: &Run,
+    job: &Job,
+    mut reader: RayReader<R>,
+    channels: Channels,
+    (out, seekable): (W, bool),
+    reweight: Option<&ReweightOut>,
+) -> Result<()> {
+    let (command, format) = (&run.command, run.output);
+    let irradiance = run.config.irradiance;
+    let query = move |r: &Ray, _: &mut Rng| sensor_query(r, irradiance);
+    // Without -y the sensors are read first (their count goes in NROWS); with -y they
+    // stream and the count is checked at the end.
+    let mut pending: Vec<Ray> = Vec::new();
+    let nrows = match run.y {
+        Some(y) => y,
+        None => {
+            for r in reader.by_ref() {
+                pending.push(r?);
+            }
+            pending.len()
+        }
+    };
+    let ncols = job.mode.ncols();
+    let header = output::header(command, None, &channels, Some(nrows), ncols, format);
+    // The --se-out file first: an unwritable path must fail before stdout gets a header.
+    let mut se_out = output::SeWriter::open(run.se_out.as_deref(), command, nrows)?;
+    let mut rw_out = ReweightFile::open(reweight, nrows, ncols, job.ncomp)?;
+    let mut sink = Sink::matrix(
+        out, header, nrows, ncols, channels, format, run.header, seekable,
+    )?;
+    let progress = Progress {
+        show: crate::io::show_progress(),
+        total: Some(nrows),
+    };
+    let block_len = job.block_len();
+    let mut done = 0usize;
+    let mut pending = pending.into_iter();
+    loop {
+        let mut block = Vec::with_capacity(block_len);
+        if run.y.is_some() {
+            for r in reader.by_ref().take(block_len) {
+                block.push(r?);
+            }
+        } else {
+            block.extend(pending.by_ref().take(block_len));
+        }
+        if block.is_empty() {
+            break;
+        }
+        if done + block.len() > nrows {
+            return Err(Error::parse(
+                Location::file("<stdin>"),
+                format!("more than the {nrows} sensors announced with -y"),
+            ));
+        }
+        let results = job.block(done as u64, &block, &query);
+        for r in &results {
+            sink.write_row(&to_output(&r.values, run.illuminance))?;
+            se_out.write(r)?;
+            rw_out.write(r)?;
+        }
+        sink.flush()?;
+        done += block.len();
+        progress.update(done);
+    }
+    progress.end();
+    if done != nrows {
+        return Err(Error::parse(
+            Location::file("<stdin>"),
+            format!("{done} sensors read, -y announced {nrows}"),
+        ));
+    }
+    se_out.finish()?;
+    rw_out.finish()?;
+    sink.finish()
+}
+
+/// Picture mode: one record per pixel, rows top to bottom; a picture under a sky, or with
+/// coefficient modes one matrix row per pixel.
+#[allow(clippy::too_many_arguments)]
+fn picture(
+    run: &Run,
+    job: &Job,
+    view: View,
+    channels: Channels,
+    seekable: bool,
+    reweight: Option<&ReweightOut>,
+) -> Result<()> {
+    let (command, format) = (&run.command, run.output);
+    let cam: Camera = view.setup()?;
+    let (xres, yres, _) =
+        cam.normalize_resolution(run.x.unwrap_or(RPICT_RES), run.y.unwrap_or(RPICT_RES), 1.0);
+    if xres == 0 || yres == 0 {
+        return Err(Error::Usage(format!(
+            "picture size {xres} x {yres}: expected at least 1 x 1"
+        )));
+    }
+    let jitter = job.ad > 1;
+    let query = move |&(px, py): &(usize, usize), rng: &mut Rng| {
+        let (u, v) = if jitter {
+            (rng.random::<f64>(), rng.random::<f64>())
+        } else {
+            (0.5, 0.5)
+        };
+        let x = (px as f64 + u) / xres as f64;
+        let y = ((yres - 1 - py) as f64 + v) / yres as f64;
+        cam.view_ray(x, y).map(|r| Query {
+            org: r.org,
+            dir: r.dir,
+            quantity: Quantity::Radiance,
+        })
+    };
+    let nrec = xres * yres;
+    let ncols = job.mode.ncols();
+    let stdout = std::io::stdout();
+    let matrix = !matches!(job.mode, Mode::Values);
+    let mut se_out = output::SeWriter::open(run.se_out.as_deref(), command, nrec)?;
+    let mut rw_out = ReweightFile::open(reweight, nrec, ncols, job.ncomp)?;
+    let mut sink = if matrix {
+        let header = output::header(
+            command,
+            Some(cam.view()),
+            &channels,
+            Some(nrec),
+            ncols,
+            format,
+        );
+        Sink::matrix(
+            stdout.lock(),
+            header,
+            nrec,
+            ncols,
+            channels,
+            format,
+            run.header,
+            seekable,
+        )?
+    } else {
+        let header = output::header(command, Some(cam.view()), &channels, None, 0, format);
+        Sink::picture_to(
+            run.picture_file.as_deref(),
+            stdout.lock(),
+            header,
+            xres,
+            yres,
+            channels,
+        )?
+    };
+    let progress = Progress {
+        show: crate::io::show_progress(),
+        total: Some(nrec),
+    };
+    // Whole scanlines per block, so picture rows can be written as they complete.
+    let lines_per_block = (job.block_len() / xres).max(1);
+    let mut py = 0;
+    while py < yres {
+        let end = (py + lines_per_block).min(yres);
+        let pixels: Vec<(usize, usize)> = (py..end)
+            .flat_map(|y| (0..xres).map(move |x| (x, y)))
+            .collect();
+        let results = job.block((py * xres) as u64, &pixels, &query);
+        if matrix {
+            for r in &results {
+                sink.write_row(&r.values)?;
+            }
+        } else {
+            for line in results.chunks(xres) {
+                let vals: Vec<f64> = line.iter().flat_map(|r| r.values.clone()).collect();
+                sink.write_row(&vals)?;
+            }
+        }
+        for r in &results {
+            se_out.write(r)?;
+            rw_out.write(r)?;
+        }
+        sink.flush()?;
+        py = end;
+        progress.update(py * xres);
+    }
+    progress.end();
+    se_out.finish()?;
+    rw_out.finish()?;
+    sink.finish()
+}
+
+/// Where `--reweight` goes and what its header says.
+pub struct ReweightOut {
+    pub path: String,
+    pub materials: Vec<String>,
+    pub command: String,
+}
+
+/// The `--reweight` file being written: rows go to a temporary file beside the target,
+/// renamed over it by [`ReweightFile::finish`] (a failed run leaves nothing half-written).
+struct ReweightFile {
+    inner: Option<(
+        String,
+        std::path::PathBuf,
+        RowWriter<std::io::BufWriter<std::fs::File>>,
+    )>,
+}
+
+impl ReweightFile {
+    fn open(r: Option<&ReweightOut>, nrows: usize, ncols: usize, ncomp: usize) -> Result<Self> {
+        let Some(r) = r else {
+            return Ok(ReweightFile { inner: None });
+        };
+        let tmp = crate::io::temp_beside(std::path::Path::new(&r.path));
+        let f = std::fs::File::create(&tmp).map_err(|e| Error::io(&r.path, e))?;
+        let w = RowWriter::start(
+            std::io::BufWriter::new(f),
+            &r.materials,
+            nrows,
+            ncols,
+            ncomp,
+            &r.command,
+        )
+        .map_err(|e| Error::io(&r.path, e))?;
+        Ok(ReweightFile {
+            inner: Some((r.path.clone(), tmp, w)),
+        })
+    }
+
+    fn write(&mut self, r: &RecordResult) -> Result<()> {
+        if let Some((path, _, w)) = &mut self.inner {
+            w.row(&r.terms).map_err(|e| Error::io(path.as_str(), e))?;
+        }
+        Ok(())
+    }
+
+    fn finish(mut self) -> Result<()> {
+        if let Some((path, tmp, w)) = self.inner.take() {
+            let mut f = w.into_inner();
+            f.flush().map_err(|e| Error::io(path.as_str(), e))?;
+            drop(f);
+            std::fs::rename(&tmp, &path).map_err(|e| Error::io(path.as_str(), e))?;
+        }
+        Ok(())
+    }
+}
+
+impl Drop for ReweightFile {
+    fn drop(&mut self) {
+        if let Some((_, tmp, _)) = self.inner.take() {
+            let _ = std::fs::remove_file(tmp);
+        }
+    }
+}

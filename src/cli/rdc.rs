@@ -1,0 +1,534 @@
+//! # `rdc`'s command line: Radiance's letters and meanings, rcontrib's defaults
+//!
+//! The tools layer's half of `rdc`: the clap struct, the Radiance spellings, and the
+//! conversion into the library's typed [`Run`] / [`Config`] (`rdaylight_trace::rdc`), which
+//! holds the defaults and every validation rule. `rdc` stands where `rcontrib` (coefficients), `rtrace -I` (point-in-time values) and
+//! `rpict` (pictures) stand in a Radiance pipeline, so it takes their option letters
+//! (radiance-notes.md 6.2, 11.2). clap cannot parse two-letter short options, so
+//! [`radiance_args`] rewrites the Radiance spellings (`-ab 5`, `-I+`, `-h-`, `-oi`) into
+//! the long forms clap knows (`--ab 5`, `--irradiance`, `-h`, `--oi`) before parsing, and the
+//! view options (`-vta -vp ...`) are taken out beforehand with `View::extract_args`.
+//!
+//! | option | meaning | default | Radiance | what rdc does with it |
+//! |---|---|---|---|---|
+//! | `-ab N` | diffuse bounces | 1 | rcontrib `-ab` | path tracer: at most N diffuse bounces, the sensor's hemisphere sample counting as the first (0: glow skies invisible to `-I` sensors, as in Radiance) |
+//! | `-ad N` | samples per record and batch | 350 | rcontrib `-ad` | N paths per record (stratified cosine directions for `-I`, jittered pixel positions for pictures) |
+//! | `-lw W` | path weight limit | 2e-3 | rcontrib `-lw` | Russian roulette below W, path weight = Radiance's ray weight (1/`-ad` x throughput) |
+//! | `-lr N` | reflection limit | -10 | rcontrib `-lr` | at most `|N|` scattering events per path (0: 10); roulette by `-lw` always (Radiance's N <= 0 rule) |
+//! | `-dj F` | source jitter | 0.9 | rcontrib `-dj` | shadow rays aim at the source centre; F widens the sun's highlight on flat surfaces by `(1-F) omega/4pi` as Radiance's shading does |
+//! | `-st F` | specular threshold | 0.02 | rcontrib `-st` | rough specular lobes at or below F are folded into the diffuse sample (`normal.c`) |
+//! | `-ss F` | specular sampling | 1 | rcontrib `-ss` | accepted and ignored: one sampled direction per specular vertex, Radiance's `-ss 1` weighting |
+//! | `--preset P` | `draft`: -ab 3 -ad 1024 -lw 1e-3; `standard`: -ab 5 -ad 4096 -lw 1e-4; `converged`: -ab 7 -ad 16384 -lw 1e-5 | | | |
+//!
+//! Preset figures: [`Preset`] (docs/benchmarking.md).
+
+use crate::error::{Error, Result};
+use crate::formats::matrix::DataFormat;
+use crate::formats::sensors::RayFormat;
+use crate::formats::view::View;
+use crate::material::RgbUplift;
+use crate::radiometry::Channels;
+use crate::rdc::{Adaptive, Config, Preset, Reweight, Run, Sampling, SunSource, Target};
+use clap::Parser;
+
+pub const EXAMPLES: &str = "\
+Radiance counterparts: sky coefficients = rcontrib -I+ -e MF:N -f reinhart.cal -b rbin
+-bn Nrbins -m skyglow (a 360-degree glow source, ground = bin 0); -I without -m = rtrace -I -h;
+view options = rpict; --suns = the five-phase sun coefficients (radiance-notes 6.6).
+Options are written as Radiance writes them: -ab 5, -ad 4096, -I+, -faf, -h, -vta ...
+View options (rpict, turn on picture mode): -vt[vlahsc] -vp x y z -vd x y z -vu x y z
+-vh deg -vv deg -vo d -va d -vs s -vl l -vf file; -x -y give the size (default 512).
+
+Examples:
+  Two-phase daylight coefficients, then annual illuminance in lux:
+    rdc -I -ab 5 -ad 10000 -lw 1e-5 -faf -m 1 room.rad < sensors.pts > dc.mtx
+    gendaymtx -m 1 -of site.wea > sky.smx
+    dctimestep dc.mtx sky.smx | rmtxop -fa -c 47.4 119.9 11.6 - > ill.txt
+  Direct-only coefficients and sun coefficients (DDS / five-phase):
+    rdc -I --direct -m 1 -faf room.rad < sensors.pts > dcd.mtx
+    rdc -I --suns 6 -faf room.rad < sensors.pts > cds.mtx
+  Point-in-time illuminance under a CIE sky (as rtrace -I -h ... | rcalc 179*...):
+    gensky 3 21 12 +s > sky.rad; cat skyglow.rad >> sky.rad
+    rdc -I -oi --preset standard room.rad sky.rad < sensors.pts
+  A 180-degree fisheye picture, then glare:
+    rdc -vta -vp 3 2 1.2 -vd 0 1 0 -vh 180 -vv 180 -x 512 -y 512 room.rad sky.rad > eye.hdr
+    evalglare eye.hdr";
+
+/// Daylight coefficients, point-in-time values and pictures (rcontrib / rtrace -I / rpict).
+///
+/// Sensors (`x y z dx dy dz`, one per line, or float/double with -ff/-fd) are read from
+/// standard input; scene files (`.rad`, `-`, or `!command`) are the arguments. Rows of the
+/// output follow the input order; results are identical for a given -s seed whatever -n.
+/// Without -y, sensors (not results) are read first to count them, so NROWS is always in
+/// the header (rmtxop needs it); with -y the input streams in constant memory.
+#[derive(Parser, Debug, Clone)]
+#[command(name = "rdc", disable_help_flag = true, after_help = EXAMPLES)]
+pub struct Options {
+    /// Ambient bounces (rcontrib -ab; default 1): at most N diffuse bounces per path, the
+    /// -I sensor's hemisphere sample counting as the first; specular bounces do not count.
+    /// 0 makes glow skies invisible to -I sensors, as in Radiance.
+    #[arg(long = "ab", value_name = "N")]
+    pub ab: Option<u32>,
+
+    /// Samples per record and batch (rcontrib -ad; default 350): hemisphere samples of a -I
+    /// sensor, paths through a pixel (jittered over the pixel) or along a ray.
+    #[arg(long = "ad", value_name = "N")]
+    pub ad: Option<usize>,
+
+    /// Path weight limit (rcontrib -lw; default 2e-3): a path whose weight (1/-ad x
+    /// throughput for -I samples, as Radiance weighs ambient rays) falls below W continues
+    /// with probability weight/W (Russian roulette, unbiased: only the noise depends on W).
+    #[arg(long = "lw", value_name = "W")]
+    pub lw: Option<f64>,
+
+    /// Reflection limit (rcontrib -lr; default -10): at most |N| reflections and
+    /// transmissions per path (0: 10, against endless mirror pairs). Roulette by -lw is
+    /// always played (Radiance's N <= 0 behaviour; with N > 0 Radiance instead drops rays
+    /// below -lw without compensation).
+    #[arg(long = "lr", value_name = "N", allow_hyphen_values = true)]
+    pub lr: Option<i32>,
+
+    /// Source jitter (rcontrib -dj; default 0.9). Shadow rays aim at the source centre (no
+    /// jitter); F only widens the sun's specular highlight on flat surfaces by (1-F) x
+    /// omega/4pi, as Radiance's shading does. No effect on -m/--suns coefficients.
+    #[arg(long = "dj", value_name = "F")]
+    pub dj: Option<f64>,
+
+    /// Specular threshold (rcontrib -st; default 0.02): rough specular lobes whose
+    /// coefficient is at or below F are folded into the diffuse sample, as Radiance's
+    /// normal.c does.
+    #[arg(long = "st", value_name = "F")]
+    pub st: Option<f64>,
+
+    /// Specular sampling (rcontrib -ss; default 1). Accepted and ignored: every specular
+    /// vertex takes one sampled direction weighted as Radiance's -ss 1.
+    #[arg(long = "ss", value_name = "F")]
+    pub ss: Option<f64>,
+
+    /// Named sample settings: draft (-ab 3 -ad 1024 -lw 1e-3), standard (-ab 5 -ad 4096
+    /// -lw 1e-4), converged (-ab 7 -ad 16384 -lw 1e-5). Explicit -ab/-ad/-lw win (no
+    /// Radiance counterpart).
+    #[arg(long = "preset", value_name = "draft|standard|converged")]
+    pub preset: Option<PresetArg>,
+
+    /// Irradiance sensors (-I or -I+, as rcontrib -I+ / rtrace -I): each input ray is a
+    /// point and a surface normal; the point is moved 1.1e-4 along the normal (rcontrib's
+    /// eval_irrad offset). Without -I each ray is a radiance ray.
+    #[arg(long = "irradiance")]
+    pub irradiance: bool,
+
+    /// Sky coefficients on the Reinhart sky with subdivision MF (1 = Tregenza): columns =
+    /// 144 MF^2 + 2 patches, ground first, in gendaymtx -m MF row order (rcontrib -e MF:N -f
+    /// reinhart.cal -b rbin -bn Nrbins on a 360-degree glow source). The sky's brightness
+    /// is ignored: every path that leaves the scene into a distant glow of the scene (or,
+    /// when the scene has no source at all, every path that leaves it) is binned by its
+    /// direction; paths that leave toward a `light` source (a sun) count nothing, as
+    /// rcontrib does for untracked modifiers.
+    #[arg(short = 'm', value_name = "MF")]
+    pub mf: Option<usize>,
+
+    /// With -m: direct-only coefficients C_dcd (patches seen straight from the sensor, no
+    /// inter-reflection), what Radiance computes with -ab 1 on a black room (DDS, notes 6.6).
+    #[arg(long = "direct")]
+    pub direct: bool,
+
+    /// Sun coefficients: MF = one unit-radiance sun at each Reinhart MF patch centre
+    /// (columns = 144 MF^2 + 2 like gendaymtx -5 0.533 -d -m MF; the ground column is 0);
+    /// or a .wea/.epw file = one sun per time step at its solar position (a zero column when
+    /// the sun is down). Coefficient = light of a unit-radiance disc, so multiply by the
+    /// sun's radiance.
+    #[arg(long = "suns", value_name = "MF|weather-file")]
+    pub suns: Option<String>,
+
+    /// With --suns: every bounce up to -ab, not only the direct view (each path from a
+    /// sensor does next-event estimation towards every sun at every surface it meets;
+    /// rcontrib -ab N with the suns as light sources: the five-phase method's sun
+    /// coefficients with inter-reflection, all suns from the same paths).
+    #[arg(long = "suns-ab")]
+    pub suns_ab: bool,
+
+    /// Full apex angle of the --suns discs in degrees (gendaymtx -5 0.533).
+    #[arg(long = "sun-angle", value_name = "DEG", default_value_t = crate::rdc::config::SUN_ANGLE_DEG)]
+    pub sun_angle: f64,
+
+    /// Number of spectral channels (Radiance -cs; default 3 = RGB).
+    #[arg(long = "cs", value_name = "N")]
+    pub cs: Option<usize>,
+
+    /// Wavelength range of -cs channels in nm (Radiance -cw; default 380 780).
+    #[arg(long = "cw", num_args = 2, value_names = ["MIN", "MAX"])]
+    pub cw: Option<Vec<f64>>,
+
+    /// How RGB reflectances and transmittances (plastic, metal, trans, mirror, glass)
+    /// become bands under -cs N (N > 3). radiance (default): as Radiance 6 does
+    /// (setscolor), each band copies R, G or B by its centre wavelength (R above 588 nm, G
+    /// 480-588, B below): a step spectrum, identical to rtrace/rcontrib -cs N. basis:
+    /// ruplift's default, the most probable smooth reflectance of a basis learned on
+    /// measured Munsell chips with exactly that colour. jakob: Jakob & Hanika 2019's
+    /// smooth sigmoid spectrum. Light sources and colours outside [0, 1] always take
+    /// Radiance's conversion; spectrum/specfile patterns are unaffected.
+    #[arg(
+        long = "uplift",
+        value_name = "radiance|basis|jakob",
+        default_value = "radiance"
+    )]
+    pub uplift: Uplift,
+
+    /// Input/output formats, rtrace's -f[io]: a ascii, f float, d double; c (output only)
+    /// RGBE/Radiance_spectra rows. One letter sets both (-ff reads float rays); -faf reads
+    /// ascii and writes float. Default -faa. Pictures are always RGBE (or spectra).
+    #[arg(short = 'f', value_name = "io")]
+    pub format: Option<String>,
+
+    /// No information header (Radiance -h, -h-; -h+ keeps it).
+    #[arg(short = 'h')]
+    pub no_header: bool,
+
+    /// Worker threads (rcontrib -n; default: all cores). Output does not depend on it.
+    #[arg(short = 'n', value_name = "N")]
+    pub threads: Option<usize>,
+
+    /// Random seed (Radiance has none: BENCHMARKING.md rule 2). Each record's stream is
+    /// derived from (seed, record index).
+    #[arg(short = 's', value_name = "SEED", default_value_t = 0)]
+    pub seed: u64,
+
+    /// Picture width (rpict -x; default 512), or with -m and a view the pixel columns.
+    #[arg(short = 'x', value_name = "X")]
+    pub x: Option<usize>,
+
+    /// Picture height (rpict -y; default 512); for sensor input the number of sensors,
+    /// written as NROWS and checked (rcontrib -y); the input then streams.
+    #[arg(short = 'y', value_name = "Y")]
+    pub y: Option<usize>,
+
+    /// Stop sampling a record once its relative standard error (RMS of the column SEs over
+    /// the mean column value) is below this target; samples come in batches of -ad, at
+    /// most --max-samples (no Radiance counterpart: Radiance only has a fixed -ad).
+    #[arg(long = "target-se", value_name = "REL")]
+    pub target_se: Option<f64>,
+
+    /// With --target-se: the target applies to the standard error of each record's row sum
+    /// (for sky coefficients, the sensor under a uniform sky) instead of the RMS of its
+    /// column SEs; coefficients that feed sky-weighted sums then get the samples the sum
+    /// needs (no Radiance counterpart).
+    #[arg(long = "se-row")]
+    pub se_row: bool,
+
+    /// Upper limit on samples per record with --target-se (default 100 x -ad; no Radiance
+    /// counterpart).
+    #[arg(long = "max-samples", value_name = "N")]
+    pub max_samples: Option<usize>,
+
+    /// Write each record's relative standard error and sample count to FILE (an ascii
+    /// matrix, NCOLS=2, NCOMP=1; no Radiance counterpart).
+    #[arg(long = "se-out", value_name = "FILE")]
+    pub se_out: Option<String>,
+
+    /// Write path re-weighting records to FILE (no Radiance counterpart): per record and
+    /// column the contribution split by which tracked materials the paths scattered at, so
+    /// that coefficients for scaled material reflectances/transmittances follow without
+    /// re-tracing (rdaylight::trace::reweight documents the format and what is exact).
+    /// Needs -m or --suns. The normal output is unchanged.
+    #[arg(long = "reweight", value_name = "FILE")]
+    pub reweight: Option<String>,
+
+    /// Materials tracked by --reweight, comma-separated names (default: every plastic,
+    /// metal, trans, glass and mirror on a surface); others count as fixed.
+    #[arg(
+        long = "reweight-materials",
+        value_name = "NAME,...",
+        value_delimiter = ','
+    )]
+    pub reweight_materials: Option<Vec<String>>,
+
+    /// Print timings (load, compile and BVH build, trace), the rays cast by paths and rays
+    /// per second to standard error at the end (no Radiance counterpart; cf. rtrace's
+    /// report).
+    #[arg(long = "stats")]
+    pub stats: bool,
+
+    /// Do not run !commands in scene files (error instead; Radiance always runs them).
+    #[arg(long = "no-exec")]
+    pub no_exec: bool,
+
+    /// Write the picture to FILE instead of standard output (rpict/rtpict -o), replaced
+    /// only once complete: OpenEXR when FILE ends in .exr (32-bit float R G B, or one
+    /// channel per band named by its centre, e.g. S0.768,888889nm: the spectral EXR
+    /// layout of Fichet et al. 2021; values unquantised), else the RGBE/Radiance_spectra
+    /// picture. Pictures only.
+    #[arg(short = 'o', value_name = "FILE")]
+    pub output: Option<String>,
+
+    /// Illuminance output for -I: one value per column, 179 x (0.265 R + 0.670 G + 0.065 B)
+    /// lux, what rmtxop -c 47.4 119.9 11.6 or rcalc after rtrace -I gives. Not rtrace's
+    /// -oi (intersection points), which rdc does not offer.
+    #[arg(long = "oi")]
+    pub oi: bool,
+
+    /// Print help.
+    #[arg(long = "help", action = clap::ArgAction::Help)]
+    pub help: Option<bool>,
+
+    /// Scene files (.rad), `-` (standard input) or `!command`.
+    #[arg(value_name = "SCENE")]
+    pub scene: Vec<String>,
+}
+
+/// `--uplift` values (see [`RgbUplift`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Uplift {
+    Radiance,
+    Basis,
+    Jakob,
+}
+
+impl From<Uplift> for RgbUplift {
+    fn from(u: Uplift) -> Self {
+        match u {
+            Uplift::Radiance => RgbUplift::Radiance,
+            Uplift::Basis => RgbUplift::Basis,
+            Uplift::Jakob => RgbUplift::Jakob,
+        }
+    }
+}
+
+/// `--preset` values (see [`Preset`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum PresetArg {
+    Draft,
+    Standard,
+    Converged,
+}
+
+impl From<PresetArg> for Preset {
+    fn from(p: PresetArg) -> Self {
+        match p {
+            PresetArg::Draft => Preset::Draft,
+            PresetArg::Standard => Preset::Standard,
+            PresetArg::Converged => Preset::Converged,
+        }
+    }
+}
+
+/// Rewrite Radiance's option spellings into clap's (program name excluded).
+pub fn radiance_args<S: AsRef<str>>(args: &[S]) -> Vec<String> {
+    const LONG: &[&str] = &[
+        "-ab", "-ad", "-lw", "-lr", "-dj", "-st", "-ss", "-cs", "-cw", "-oi",
+    ];
+    let mut out = Vec::with_capacity(args.len());
+    let mut after_dashes = false;
+    for a in args {
+        let a = a.as_ref();
+        if after_dashes {
+            out.push(a.to_string());
+            continue;
+        }
+        match a {
+            "--" => {
+                after_dashes = true;
+                out.push(a.to_string());
+            }
+            "-I" | "-I+" => out.push("--irradiance".into()),
+            "-I-" | "-h+" => {}
+            "-h-" => out.push("-h".into()),
+            _ if LONG.contains(&a) => out.push(format!("-{a}")),
+            _ => out.push(a.to_string()),
+        }
+    }
+    out
+}
+
+impl Options {
+    /// Sampling after preset, explicit options and rcontrib's defaults.
+    pub fn sampling(&self) -> Sampling {
+        let base = self
+            .preset
+            .map(|p| Preset::from(p).sampling())
+            .unwrap_or_default();
+        Sampling {
+            ab: self.ab.unwrap_or(base.ab),
+            ad: self.ad.unwrap_or(base.ad),
+            lw: self.lw.unwrap_or(base.lw),
+            lr: self.lr.unwrap_or(base.lr),
+            dj: self.dj.unwrap_or(base.dj),
+            st: self.st.unwrap_or(base.st),
+            ss: self.ss.unwrap_or(base.ss),
+        }
+    }
+
+    /// `-cs N -cw a b` as a channel layout (RGB without them).
+    pub fn channels(&self) -> Result<Channels> {
+        match (self.cs, &self.cw) {
+            (None | Some(3), None) => Ok(Channels::rgb()),
+            (n, cw) => {
+                let (lo, hi) = match cw.as_deref() {
+                    Some([a, b]) => (*a, *b),
+                    _ => (380.0, 780.0),
+                };
+                Channels::spectral(n.unwrap_or(3), lo, hi)
+            }
+        }
+    }
+
+    /// `-f[io]`: sensor input and data output formats.
+    pub fn formats(&self) -> Result<(RayFormat, DataFormat)> {
+        let f = self.format.as_deref().unwrap_or("aa");
+        let bad = || {
+            Error::Usage(format!(
+                "-f{f}: expected -f[a|f|d][a|f|d|c] (e.g. -faf: ascii rays in, float out)"
+            ))
+        };
+        let mut cs = f.chars();
+        let (i, o) = match (cs.next(), cs.next(), cs.next()) {
+            (Some(c), None, None) => (c, c),
+            (Some(i), Some(o), None) => (i, o),
+            _ => return Err(bad()),
+        };
+        let input = if i == 'c' {
+            return Err(bad());
+        } else {
+            RayFormat::from_letter(i).ok_or_else(bad)?
+        };
+        let output = match o {
+            'a' => DataFormat::Ascii,
+            'f' => DataFormat::Float,
+            'd' => DataFormat::Double,
+            'c' => DataFormat::Rgbe,
+            _ => return Err(bad()),
+        };
+        Ok((input, output))
+    }
+
+    /// The tracer's typed configuration; the rules that only concern how options combine
+    /// on the command line are checked here, the rest by [`Config::validate`].
+    pub fn to_config(&self) -> Result<Config> {
+        let usage = |m: &str| Err(Error::Usage(m.into()));
+        if self.mf.is_some() && self.suns.is_some() {
+            return usage("-m and --suns: one kind of coefficients per run");
+        }
+        if self.direct && self.mf.is_none() {
+            return usage("--direct needs -m MF (direct-only sky coefficients)");
+        }
+        if self.suns_ab && self.suns.is_none() {
+            return usage("--suns-ab needs --suns MF|weather-file");
+        }
+        if self.se_row && self.target_se.is_none() {
+            return usage("--se-row needs --target-se REL (the row sum's relative error target)");
+        }
+        if self.reweight_materials.is_some() && self.reweight.is_none() {
+            return usage("--reweight-materials needs --reweight FILE");
+        }
+        let target = match (self.mf, &self.suns) {
+            (Some(mf), _) => Target::Sky {
+                mf,
+                direct_only: self.direct,
+            },
+            (None, Some(s)) => Target::Suns {
+                suns: SunSource::parse(s),
+                angle_deg: self.sun_angle,
+                bounces: self.suns_ab,
+            },
+            (None, None) => Target::Values,
+        };
+        Ok(Config {
+            sampling: self.sampling(),
+            channels: self.channels()?,
+            uplift: self.uplift.into(),
+            target,
+            irradiance: self.irradiance,
+            adaptive: self.target_se.map(|target_se| Adaptive {
+                target_se,
+                per_row: self.se_row,
+                max_samples: self.max_samples,
+            }),
+            seed: self.seed,
+            threads: self.threads,
+            reweight: self.reweight.as_ref().map(|path| Reweight {
+                path: Some(path.clone()),
+                materials: self.reweight_materials.clone(),
+            }),
+        })
+    }
+
+    /// The whole run: the config plus streams, view and output choices.
+    pub fn to_run(&self, view: Option<View>, command: &[String]) -> Result<Run> {
+        let (input, output) = self.formats()?;
+        let mut load = crate::scene::LoadOptions::from_env();
+        load.allow_exec &= !self.no_exec;
+        let run = Run {
+            config: self.to_config()?,
+            scene: self.scene.clone(),
+            load,
+            input,
+            output,
+            header: !self.no_header,
+            illuminance: self.oi,
+            view,
+            x: self.x,
+            y: self.y,
+            picture_file: self.output.clone(),
+            se_out: self.se_out.clone(),
+            stats: self.stats,
+            command: command.to_vec(),
+        };
+        run.validate()?;
+        Ok(run)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn parse(args: &[&str]) -> Options {
+        let mut v = vec!["rdc".to_string()];
+        v.extend(radiance_args(args));
+        Options::try_parse_from(v).unwrap()
+    }
+
+    #[test]
+    fn radiance_spellings_reach_clap() {
+        let o = parse(&[
+            "-I+",
+            "-ab",
+            "5",
+            "-ad",
+            "1000",
+            "-lw",
+            "1e-5",
+            "-lr",
+            "-10",
+            "-faf",
+            "-h",
+            "-m",
+            "4",
+            "-oi",
+            "scene.rad",
+        ]);
+        assert!(o.irradiance && o.no_header && o.oi);
+        assert_eq!(
+            (o.ab, o.ad, o.lr, o.mf),
+            (Some(5), Some(1000), Some(-10), Some(4))
+        );
+        assert_eq!(o.lw, Some(1e-5));
+        assert_eq!(o.formats().unwrap(), (RayFormat::Ascii, DataFormat::Float));
+        assert_eq!(o.scene, ["scene.rad"]);
+    }
+
+    #[test]
+    fn presets_yield_to_explicit_options() {
+        let o = parse(&["--preset", "draft", "-ad", "10"]);
+        let s = o.sampling();
+        assert_eq!((s.ab, s.ad, s.lw), (3, 10, 1e-3));
+        let d = parse(&[]).sampling();
+        assert_eq!((d.ab, d.ad, d.lw, d.lr), (1, 350, 2e-3, -10));
+    }
+
+    #[test]
+    fn bad_formats_are_errors() {
+        for f in ["-fx", "-fca", "-faaa"] {
+            assert!(parse(&[f]).formats().is_err(), "{f}");
+        }
+    }
+}
