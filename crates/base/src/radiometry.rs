@@ -66,6 +66,24 @@ pub fn rgb_to_xyz(p: &[f64; 8]) -> [[f64; 3]; 3] {
     out
 }
 
+/// Photopic part of an RGB value with [`RGB_PHOTOPIC`] (Radiance's `bright()`): `w . rgb`.
+pub fn photopic(rgb: [f64; 3]) -> f64 {
+    RGB_PHOTOPIC[0] * rgb[0] + RGB_PHOTOPIC[1] * rgb[1] + RGB_PHOTOPIC[2] * rgb[2]
+}
+
+/// Luminance (cd/m2) of RGB radiance, or illuminance (lx) of RGB irradiance:
+/// `179 (w . rgb)` with Radiance's compiled weights (`luminance()`, `rmtxop -c Y`).
+pub fn luminance(rgb: [f64; 3]) -> f64 {
+    WHITE_EFFICACY * photopic(rgb)
+}
+
+/// [`luminance`] with the rounded weights [`RGB_PHOTOPIC_ROUNDED`] (`rmtxop -c 47.4 119.9
+/// 11.6`, the `rcalc` line of Radiance tutorials, `rdc -oi`).
+pub fn luminance_rounded(rgb: [f64; 3]) -> f64 {
+    let w = RGB_PHOTOPIC_ROUNDED;
+    WHITE_EFFICACY * (w[0] * rgb[0] + w[1] * rgb[1] + w[2] * rgb[2])
+}
+
 /// The rounded weights most pipelines use (`rmtxop -c 47.4 119.9 11.6` = 179 x .265/.670/.065).
 pub const RGB_PHOTOPIC_ROUNDED: [f64; 3] = [0.265, 0.670, 0.065];
 

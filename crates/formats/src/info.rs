@@ -10,7 +10,7 @@ use crate::header::Header;
 use crate::matrix::reader::{MatrixReader, ReadOptions};
 use crate::picture::PictureReader;
 use crate::picture::resolution::Resolution;
-use crate::radiometry::{RGB_PHOTOPIC, WHITE_EFFICACY};
+
 use crate::scene::Scene;
 use crate::sensors::{RayFormat, RayReader};
 use crate::weather::{WeaUnits, Weather};
@@ -156,7 +156,7 @@ pub fn picture_stats<R: BufRead>(r: R, name: &str) -> Result<String> {
             let lum = match p.format {
                 // XYZE: Y is already luminance (179 applied), notes §3.1.
                 crate::picture::PixelFormat::Xyze => rgb[1] as f64,
-                _ => WHITE_EFFICACY * (0..3).map(|k| RGB_PHOTOPIC[k] * rgb[k] as f64).sum::<f64>(),
+                _ => crate::radiometry::luminance(rgb.map(f64::from)),
             };
             st.add(&[lum / exposure]);
         }

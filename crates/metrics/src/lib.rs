@@ -28,7 +28,7 @@ pub use schedule::{Schedule, Stamp};
 
 use crate::error::{Error, Result};
 use crate::formats::matrix::reader::{MatrixReader, ReadOptions};
-use crate::radiometry::{RGB_PHOTOPIC, WHITE_EFFICACY};
+
 use std::io::BufRead;
 
 /// Streams an illuminance matrix row by row as lux, whatever its NCOMP (1 or 3).
@@ -91,10 +91,7 @@ impl<R: BufRead> LuxRows<R> {
         }
         if self.converted {
             for (o, rgb) in out.iter_mut().zip(self.buf.chunks_exact(3)) {
-                *o = WHITE_EFFICACY
-                    * (RGB_PHOTOPIC[0] * rgb[0]
-                        + RGB_PHOTOPIC[1] * rgb[1]
-                        + RGB_PHOTOPIC[2] * rgb[2]);
+                *o = crate::radiometry::luminance([rgb[0], rgb[1], rgb[2]]);
             }
         } else {
             out.copy_from_slice(&self.buf);

@@ -41,7 +41,7 @@ use nom::{
 
 use crate::error::{Error, Location, Result};
 use crate::formats::picture::{Picture, PixelFormat};
-use crate::radiometry::{Channels, RGB_PHOTOPIC, WHITE_EFFICACY};
+use crate::radiometry::{Channels, RGB_PHOTOPIC};
 
 use rayon::prelude::*;
 
@@ -189,7 +189,7 @@ fn pixel_values(p: &Picture, three: bool) -> Vec<f64> {
         // Radiance's luminance(): 179 lm/W times the photopic weights of its primaries.
         PixelFormat::Rgbe => rad
             .chunks_exact(3)
-            .map(|c| WHITE_EFFICACY * (0..3).map(|i| RGB_PHOTOPIC[i] * c[i]).sum::<f64>())
+            .map(|c| crate::radiometry::luminance([c[0], c[1], c[2]]))
             .collect(),
         // Y is stored in cd/m2.
         PixelFormat::Xyze => rad.chunks_exact(3).map(|c| c[1]).collect(),

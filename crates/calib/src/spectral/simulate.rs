@@ -21,7 +21,7 @@
 //! Coefficients are cached with the photopic ones ([`Tracer::run`]).
 
 use crate::error::{Error, Result};
-use crate::radiometry::{Channels, RGB_PHOTOPIC};
+use crate::radiometry::Channels;
 use crate::scene::Scene;
 use crate::simulate::{Kind, StepSky, Tracer, What};
 use crate::sky::spectral::{daylight_bands, photopic_shares, sky_cct, sun_cct};
@@ -107,7 +107,7 @@ pub fn simulate(
         let (s_sky, s_sun, s_ground) = step_spectra(sk, ch);
         for p in 0..npatch {
             let rgb = sk.sky.get(p * 3..p * 3 + 3).unwrap_or(&[0.0; 3]);
-            let y: f64 = rgb.iter().zip(RGB_PHOTOPIC).map(|(a, b)| a * b).sum();
+            let y = crate::radiometry::photopic([rgb[0], rgb[1], rgb[2]]);
             if y == 0.0 {
                 continue;
             }

@@ -33,7 +33,7 @@ pub mod spectral;
 
 use crate::error::{Error, Location, Result};
 use crate::header::{Header, parse_f64};
-use crate::radiometry::{Channels, MAX_SAMPLES, RGB_PHOTOPIC, WHITE_EFFICACY};
+use crate::radiometry::{Channels, MAX_SAMPLES};
 use resolution::{Resolution, STANDARD};
 use scanline::ScanlineError;
 use std::io::{BufRead, Write};
@@ -583,8 +583,7 @@ impl Picture {
     pub fn luminance(&self, x: usize, y: usize) -> f64 {
         let ex = self.exposure();
         let px = self.pixel(x, y);
-        let rgb =
-            |v: [f64; 3]| WHITE_EFFICACY * (0..3).map(|i| RGB_PHOTOPIC[i] * v[i]).sum::<f64>();
+        let rgb = crate::radiometry::luminance;
         match self.format {
             PixelFormat::Xyze => px[1] as f64 / ex[1],
             PixelFormat::Rgbe => rgb([

@@ -50,7 +50,7 @@ pub mod spectrum;
 pub mod ward;
 
 use crate::error::{Error, Location, Result};
-use crate::radiometry::{Channels, MAX_SAMPLES, RGB_PHOTOPIC};
+use crate::radiometry::{Channels, MAX_SAMPLES};
 use crate::scene::{Object, Primitive};
 pub use emitter::{Emitter, EmitterKind};
 pub use glass::Glass;
@@ -174,10 +174,7 @@ impl std::ops::Mul for Color {
 /// A one-channel run gets the photopic weighting of Radiance's primaries (`CIE_rf/gf/bf`).
 pub fn to_channels(rgb: [f64; 3], ch: &Channels) -> Color {
     match ch.ncomp {
-        0 | 1 => Color::splat(
-            1,
-            rgb[0] * RGB_PHOTOPIC[0] + rgb[1] * RGB_PHOTOPIC[1] + rgb[2] * RGB_PHOTOPIC[2],
-        ),
+        0 | 1 => Color::splat(1, crate::radiometry::photopic(rgb)),
         3 => Color::from_slice(&[rgb[0] as f32, rgb[1] as f32, rgb[2] as f32]),
         n => {
             let n = n.min(MAX_SAMPLES);

@@ -45,7 +45,7 @@ use super::perez::{SkyVector, TimeStep, perez_sky_vector};
 use super::solar::Site;
 use crate::colour::bands::{Curve, band_integrals, spec_dot};
 use crate::colour::cie::daylight;
-use crate::radiometry::{Channels, RGB_PHOTOPIC};
+use crate::radiometry::Channels;
 use rayon::prelude::*;
 
 /// CCT (K) of the diffuse sky for Perez clearness `epsilon` (see the module table).
@@ -118,7 +118,7 @@ pub struct SpectralSkyMatrix {
 }
 
 fn photopic(rgb: &[f64]) -> f64 {
-    rgb.iter().zip(RGB_PHOTOPIC).map(|(a, b)| a * b).sum()
+    crate::radiometry::photopic([rgb[0], rgb[1], rgb[2]])
 }
 
 fn column(v: SkyVector, step: usize, ch: &Channels, shares: &[f64], c: &Colours) -> Column {

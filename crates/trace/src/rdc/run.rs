@@ -26,7 +26,7 @@ use crate::formats::matrix::DataFormat;
 use crate::formats::sensors::{Ray, RayFormat, RayReader};
 use crate::formats::view::{Camera, View};
 use crate::material::ShadingOptions;
-use crate::radiometry::{Channels, RGB_PHOTOPIC, RGB_PHOTOPIC_ROUNDED, WHITE_EFFICACY};
+use crate::radiometry::{Channels, RGB_PHOTOPIC, luminance_rounded};
 use crate::scene::{LoadOptions, Scene};
 use crate::sky::SkyPatches;
 use crate::trace::Renderable;
@@ -543,12 +543,7 @@ fn to_output(values: &[f64], oi: bool) -> Vec<f64> {
     }
     values
         .chunks_exact(3)
-        .map(|c| {
-            WHITE_EFFICACY
-                * (RGB_PHOTOPIC_ROUNDED[0] * c[0]
-                    + RGB_PHOTOPIC_ROUNDED[1] * c[1]
-                    + RGB_PHOTOPIC_ROUNDED[2] * c[2])
-        })
+        .map(|c| luminance_rounded([c[0], c[1], c[2]]))
         .collect()
 }
 
