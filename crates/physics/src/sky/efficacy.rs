@@ -19,6 +19,13 @@
 //! direct illuminance  = DNI max(0, a + b W + c exp(5.73 Z - 5) + d delta)  (eq. 8)
 //! ```
 //!
+//! One model, two Radiance programs: gendaymtx (annual matrices) and gendaylit (one sky)
+//! apply it with the same formulas and tables but clamp its inputs differently; [`Flavour`]
+//! is that switch (clearness and dew point limits) and every formula above has one home
+//! here, used by both [`SkyState`] (gendaymtx) and `super::gendaylit`. (gendaylit writes
+//! the air mass as `exp(-1.253 ln(93.885 - Z))` and the day angle as `2 pi (jd - 1)/365`:
+//! the same numbers to rounding.)
+//!
 //! with `a..d` from Table 4 per clearness category (the 8 bins of Table 1, edges
 //! `1, 1.065, 1.23, 1.5, 1.95, 2.8, 4.5, 6.2, 12.01`). Photometric input (WEA units 3) is
 //! converted back to irradiance by gendaymtx's fixed-point iteration
@@ -79,9 +86,10 @@ pub fn air_mass(z: f64) -> f64 {
     1.0 / (z.cos() + 0.15 * (93.885 - z.to_degrees()).powf(-1.253))
 }
 
-/// Earth orbit eccentricity correction for day of year `jd`.
-pub fn eccentricity(jd: u32) -> f64 {
-    let g = (jd as f64 - 1.0) * (2.0 * std::f64::consts::PI / 365.0);
+/// Earth orbit eccentricity correction for day of year `jd` (gendaylit's day numbers may be
+/// fractional).
+pub fn eccentricity(jd: f64) -> f64 {
+    let g = (jd - 1.0) * (2.0 * std::f64::consts::PI / 365.0);
     1.00011
         + 0.034221 * g.cos()
         + 0.00128 * g.sin()
@@ -124,23 +132,63 @@ pub struct SkyState {
     pub diff_illum: f64,
 }
 
-fn brightness(diff_irrad: f64, z: f64, jd: u32) -> f64 {
+/// Sky brightness delta (eq. 2), unclamped; `jd` the day of the year.
+pub fn brightness(diff_irrad: f64, z: f64, jd: f64) -> f64 {
     diff_irrad * air_mass(z) / (SOLAR_CONSTANT * eccentricity(jd))
 }
 
-fn clearness(diff_irrad: f64, dir_irrad: f64, z: f64) -> f64 {
+/// Sky clearness epsilon (eq. 1), unclamped (infinite for a zero diffuse value).
+pub fn clearness(diff_irrad: f64, dir_irrad: f64, z: f64) -> f64 {
     let z3 = z * z * z;
     ((diff_irrad + dir_irrad) / diff_irrad + 1.041 * z3) / (1.0 + 1.041 * z3)
 }
 
-fn diffuse_ratio(cat: usize, w: f64, z: f64, delta: f64) -> f64 {
+/// Diffuse luminous efficacy (lm/W, eq. 7) of category `cat` (0..=7).
+pub fn diffuse_efficacy(cat: usize, w: f64, z: f64, delta: f64) -> f64 {
     let [a, b, c, d] = DIFFUSE_EFFICACY[cat.min(7)];
     a + b * w + c * z.cos() + d * delta.ln()
 }
 
-fn direct_ratio(cat: usize, w: f64, z: f64, delta: f64) -> f64 {
+/// Direct luminous efficacy (lm/W, eq. 8, never negative) of category `cat` (0..=7).
+pub fn direct_efficacy(cat: usize, w: f64, z: f64, delta: f64) -> f64 {
     let [a, b, c, d] = DIRECT_EFFICACY[cat.min(7)];
     (a + b * w + c * (5.73 * z - 5.0).exp() + d * delta).max(0.0)
+}
+
+/// Which Radiance program's input limits the model runs with.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Flavour {
+    /// gendaymtx (`ComputeSky`, `CalcSkyParamFromIllum`): epsilon clamped to [1, 11.9]
+    /// (12 while inverting photometric input), dew point used as given.
+    Gendaymtx,
+    /// gendaylit (`check_parametrization`): epsilon below 1 raised to 1, above 12.01 set to
+    /// 12.009; a dew point outside -40..40 deg C replaced by [`GENDAYLIT_DEW_POINT`].
+    Gendaylit,
+}
+
+/// gendaylit's default surface dew point (deg C), used when the given one is out of range.
+pub const GENDAYLIT_DEW_POINT: f64 = 10.97353115;
+
+impl Flavour {
+    /// Epsilon as the program clamps it before looking up the category.
+    pub fn clamp_clearness(self, eps: f64) -> f64 {
+        match self {
+            Flavour::Gendaymtx if eps.is_nan() => 1.0,
+            Flavour::Gendaymtx => eps.clamp(1.0, 11.9),
+            Flavour::Gendaylit if eps < CLEARNESS_EDGES[0] => CLEARNESS_EDGES[0],
+            Flavour::Gendaylit if eps > CLEARNESS_EDGES[8] => CLEARNESS_EDGES[8] - 0.001,
+            Flavour::Gendaylit => eps,
+        }
+    }
+
+    /// Precipitable water (cm) from the dew point the program accepts.
+    pub fn precipitable_water(self, dew_point: f64) -> f64 {
+        let td = match self {
+            Flavour::Gendaylit if !(-40.0..=40.0).contains(&dew_point) => GENDAYLIT_DEW_POINT,
+            _ => dew_point,
+        };
+        precipitable_water(td)
+    }
 }
 
 impl SkyState {
@@ -154,15 +202,10 @@ impl SkyState {
         dew_point: f64,
     ) -> SkyState {
         let z = perez_zenith(sun_altitude);
-        let w = precipitable_water(dew_point);
-        let delta = brightness(diff_irrad, z, jd).clamp(0.01, 0.6);
+        let w = Flavour::Gendaymtx.precipitable_water(dew_point);
+        let delta = brightness(diff_irrad, z, f64::from(jd)).clamp(0.01, 0.6);
         // A zero diffuse value makes epsilon infinite (as in C), which the clamp catches.
-        let eps = clearness(diff_irrad, dir_irrad, z);
-        let eps = if eps.is_nan() {
-            1.0
-        } else {
-            eps.clamp(1.0, 11.9)
-        };
+        let eps = Flavour::Gendaymtx.clamp_clearness(clearness(diff_irrad, dir_irrad, z));
         let cat = category(eps);
         SkyState {
             sun_zenith: z,
@@ -172,8 +215,8 @@ impl SkyState {
             precip_water: w,
             dir_irrad,
             diff_irrad,
-            diff_illum: diff_irrad * diffuse_ratio(cat, w, z, delta),
-            dir_illum: dir_irrad * direct_ratio(cat, w, z, delta),
+            diff_illum: diff_irrad * diffuse_efficacy(cat, w, z, delta),
+            dir_illum: dir_irrad * direct_efficacy(cat, w, z, delta),
         }
     }
 
@@ -189,11 +232,11 @@ impl SkyState {
         dew_point: f64,
     ) -> SkyState {
         let z = perez_zenith(sun_altitude);
-        let w = precipitable_water(dew_point);
+        let w = Flavour::Gendaymtx.precipitable_water(dew_point);
         let k = SOLAR_CONSTANT / (SOLAR_CONSTANT_KLUX * 1000.0);
         let (mut diff_irrad, mut dir_irrad) = (diff_illum * k, dir_illum * k);
         let clamp_eps = |e: f64| if e.is_nan() { 1.0 } else { e.clamp(1.0, 12.0) };
-        let mut delta = brightness(diff_irrad, z, jd).clamp(0.01, 0.6);
+        let mut delta = brightness(diff_irrad, z, f64::from(jd)).clamp(0.01, 0.6);
         let mut eps = clamp_eps(clearness(diff_irrad, dir_irrad, z));
         let (mut test1, mut test2) = (0.1, 0.1);
         let mut rounds = 0;
@@ -203,13 +246,13 @@ impl SkyState {
             test2 = dir_irrad;
             rounds += 1;
             let cat = category(eps);
-            diff_irrad = diff_illum / diffuse_ratio(cat, w, z, delta);
+            diff_irrad = diff_illum / diffuse_efficacy(cat, w, z, delta);
             // gendaymtx keeps the ratio itself when it is tiny (a quirk kept for equality).
-            dir_irrad = direct_ratio(cat, w, z, delta);
+            dir_irrad = direct_efficacy(cat, w, z, delta);
             if dir_irrad > 0.1 {
                 dir_irrad = dir_illum / dir_irrad;
             }
-            delta = brightness(diff_irrad, z, jd).clamp(0.01, 0.6);
+            delta = brightness(diff_irrad, z, f64::from(jd)).clamp(0.01, 0.6);
             eps = clamp_eps(clearness(diff_irrad, dir_irrad, z));
         }
         SkyState {

@@ -28,24 +28,25 @@
 //! (gendaylit's loop condition never ends earlier once the parameters are clamped).
 
 use super::cie::{CieSky, normsc};
-use super::efficacy::{DIFFUSE_EFFICACY, DIRECT_EFFICACY};
+/// gendaylit's efficacy categories (the direct table's last edge is 12.1 there).
+use super::efficacy::CLEARNESS_EDGES as EDGES;
+use super::efficacy::SOLAR_CONSTANT as SOLAR_CONSTANT_E;
+use super::efficacy::{self, Flavour};
 use super::perez::{PEREZ_1993, perezlum};
 use super::solar::{Site, SunPosition, sunrise_sunset};
 use crate::radiometry::WHITE_EFFICACY;
 use std::f64::consts::PI;
 
 /// gendaylit's default dew point (deg C): precipitable water `exp(0.07 Td - 0.075) = 2`.
-pub const GENDAYLIT_DEW_POINT: f64 = 10.97353115;
+pub use super::efficacy::GENDAYLIT_DEW_POINT;
 
-const SOLAR_CONSTANT_E: f64 = 1367.0;
+/// gendaylit's clearness limits: the first and last category edges.
+const CLEAR_INF: f64 = EDGES[0];
+const CLEAR_SUP: f64 = EDGES[8];
 const SOLAR_CONSTANT_L: f64 = 127500.0;
 const HALF_SUN_ANGLE_DEG: f64 = 0.2665;
-const CLEAR_INF: f64 = 1.0;
-const CLEAR_SUP: f64 = 12.01;
 const BRIGHT_INF: f64 = 0.01;
 const BRIGHT_SUP: f64 = 0.6;
-/// Edges gendaylit uses for its efficacy categories (the direct table's last edge is 12.1).
-const EDGES: [f64; 9] = [1.0, 1.065, 1.230, 1.500, 1.950, 2.800, 4.500, 6.200, 12.01];
 
 /// The 145 Tregenza directions gendaylit integrates over: (zenith angle, azimuth) in degrees.
 fn tregenza_directions() -> impl Iterator<Item = (f64, f64)> {
@@ -180,18 +181,9 @@ fn error_sky(alt: f64, azi: f64, eps: f64, delta: f64, o: &GendaylitOptions) -> 
         solar: None,
         epsilon: eps,
         delta,
-        precip_water: precip_water(o.dew_point),
+        precip_water: Flavour::Gendaylit.precipitable_water(o.dew_point),
         error: true,
     }
-}
-
-fn precip_water(td: f64) -> f64 {
-    let td = if (-40.0..=40.0).contains(&td) {
-        td
-    } else {
-        GENDAYLIT_DEW_POINT
-    };
-    (0.07 * td - 0.075).exp()
 }
 
 /// gendaylit's globals for one run.
@@ -220,7 +212,7 @@ impl State {
             altitude,
             zenith_deg: 90.0 - altitude * 180.0 / PI,
             daynumber,
-            w: precip_water(o.dew_point),
+            w: Flavour::Gendaylit.precipitable_water(o.dew_point),
             eps: 0.0,
             delta: 0.0,
             dir_irr: 0.0,
@@ -234,60 +226,46 @@ impl State {
         self.zenith_deg * PI / 180.0
     }
 
-    fn eccentricity(&self) -> f64 {
-        let g = 2.0 * PI * (self.daynumber - 1.0) / 365.0;
-        1.00011
-            + 0.034221 * g.cos()
-            + 0.00128 * g.sin()
-            + 0.000719 * (2.0 * g).cos()
-            + 0.000077 * (2.0 * g).sin()
-    }
-
     fn air_mass(&mut self) -> f64 {
         if self.zenith_deg > 90.0 {
             self.zenith_deg = 90.0;
         }
-        1.0 / ((self.zenith_deg * PI / 180.0).cos()
-            + 0.15 * ((93.885 - self.zenith_deg).ln() * -1.253).exp())
+        efficacy::air_mass(self.z())
     }
 
     fn brightness(&mut self) -> f64 {
-        self.dif_irr * self.air_mass() / (SOLAR_CONSTANT_E * self.eccentricity())
+        self.dif_irr * self.air_mass() / (SOLAR_CONSTANT_E * efficacy::eccentricity(self.daynumber))
     }
 
     fn clearness(&self) -> f64 {
-        let z3 = self.z().powi(3);
-        ((self.dif_irr + self.dir_irr) / self.dif_irr + 1.041 * z3) / (1.0 + 1.041 * z3)
+        efficacy::clearness(self.dif_irr, self.dir_irr, self.z())
     }
 
     fn clamp_parameters(&mut self) {
-        if self.eps < CLEAR_INF {
-            self.eps = CLEAR_INF;
-        }
-        if self.eps > CLEAR_SUP {
-            self.eps = CLEAR_SUP - 0.001;
-        }
+        self.eps = Flavour::Gendaylit.clamp_clearness(self.eps);
         self.delta = self.delta.clamp(BRIGHT_INF, BRIGHT_SUP);
     }
 
-    /// Efficacy category as gendaylit's loops find it (last bin containing epsilon).
+    /// Efficacy category (`None` when epsilon is outside every bin).
     fn category(&self) -> Option<usize> {
-        (0..8)
-            .rev()
-            .find(|&i| self.eps >= EDGES[i] && self.eps < EDGES[i + 1])
+        Some(efficacy::category(self.eps)).filter(|&c| c < 8)
     }
 
     fn diffuse_efficacy(&mut self) -> Option<f64> {
         self.clamp_parameters();
-        let [a, b, c, d] = DIFFUSE_EFFICACY[self.category()?];
-        Some(a + b * self.w + c * self.z().cos() + d * self.delta.ln())
+        let cat = self.category()?;
+        Some(efficacy::diffuse_efficacy(
+            cat,
+            self.w,
+            self.z(),
+            self.delta,
+        ))
     }
 
     fn direct_efficacy(&self) -> f64 {
-        // The direct table's last edge is 12.1, so a clamped epsilon always finds a bin.
+        // gendaylit's direct table's last edge is 12.1, so a clamped epsilon always finds a bin.
         let cat = self.category().unwrap_or(7);
-        let [a, b, c, d] = DIRECT_EFFICACY[cat];
-        (a + b * self.w + c * (5.73 * self.z() - 5.0).exp() + d * self.delta).max(0.0)
+        efficacy::direct_efficacy(cat, self.w, self.z(), self.delta)
     }
 
     /// `check_irradiances`: negative values become 0; `None` = error sky.
@@ -357,7 +335,8 @@ impl State {
                 self.delta = delta;
                 self.clamp_parameters();
                 let m = self.air_mass();
-                self.dif_irr = self.delta / m * (SOLAR_CONSTANT_E * self.eccentricity());
+                self.dif_irr =
+                    self.delta / m * (SOLAR_CONSTANT_E * efficacy::eccentricity(self.daynumber));
                 let z3 = self.z().powi(3);
                 self.dir_irr = self.dif_irr * ((self.eps - 1.0) * (1.0 + 1.041 * z3));
                 self.check_irradiances()?;
@@ -383,7 +362,9 @@ impl State {
                     self.dir_irr = 0.0;
                     self.dif_irr = 0.0;
                 } else {
-                    let s0 = SOLAR_CONSTANT_E * self.eccentricity() * self.altitude.sin();
+                    let s0 = SOLAR_CONSTANT_E
+                        * efficacy::eccentricity(self.daynumber)
+                        * self.altitude.sin();
                     let glob = if glob > s0 { s0 * 0.999 } else { glob };
                     let kt = glob / s0;
                     // Erbs et al. (1982) diffuse fraction, as gendaylit -E (no branch for
