@@ -1156,8 +1156,8 @@ fn clearness_categories_and_efficacy_edges() {
     // "2.0000" as the precipitable water).
     assert!((precipitable_water(11.0) - 2.0).abs() < 4e-3);
     // Eccentricity: ~+3.5 % in early January, ~-3.3 % in early July.
-    assert!((eccentricity(3) - 1.035).abs() < 1e-3);
-    assert!((eccentricity(185) - 0.967).abs() < 1e-3);
+    assert!((eccentricity(3.0) - 1.035).abs() < 1e-3);
+    assert!((eccentricity(185.0) - 0.967).abs() < 1e-3);
 }
 
 #[test]

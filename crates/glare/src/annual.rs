@@ -415,57 +415,6 @@ fn evaluate_step(
     }
 }
 
-/// dcglare's position index (`get_guth` in `src/util/cmglare.c`, Radiance 6): Guth above
-/// the line of sight, with τ measured from `D + d/cos σ` (where evalglare uses
-/// `d/cos σ − D`); below it the Iwata/Osterhaus form `P = 1 + f r`,
-/// `r = min(3, √((1 + s²)/d²))`, `d = 1/tan φ`, `s = tan θ/tan φ`, θ the horizontal angle,
-/// `f = 0.8`, 1.2 when `r > 0.6`; capped at 16.
-pub fn dcglare_posindex(dir: V3, forward: V3, up: V3) -> f64 {
-    let cross = |a: V3, b: V3| {
-        [
-            a[1] * b[2] - a[2] * b[1],
-            a[2] * b[0] - a[0] * b[2],
-            a[0] * b[1] - a[1] * b[0],
-        ]
-    };
-    let unit = |v: V3| {
-        let l = dot(v, v).sqrt();
-        if l == 0.0 {
-            v
-        } else {
-            [v[0] / l, v[1] / l, v[2] / l]
-        }
-    };
-    let angle = |a: V3, b: V3| dot(a, b).clamp(-1.0, 1.0).acos();
-    let hv = unit(cross(forward, up));
-    let vert = cross(forward, hv);
-    let phi = angle(dir, vert) - std::f64::consts::FRAC_PI_2;
-    let p = if phi >= 0.0 {
-        let sigma = angle(dir, forward).abs().to_degrees();
-        let c = dot(dir, forward);
-        let h = unit([
-            forward[0] + dir[0] / c,
-            forward[1] + dir[1] / c,
-            forward[2] + dir[2] / c,
-        ]);
-        let tau = angle(h, up).to_degrees();
-        ((35.2 - 0.31889 * tau - 1.22 * (-2.0 * tau / 9.0).exp()) / 1000.0 * sigma
-            + (21.0 + 0.26667 * tau - 0.002963 * tau * tau) / 100000.0 * sigma * sigma)
-            .exp()
-    } else {
-        let mut teta = std::f64::consts::FRAC_PI_2 - angle(dir, hv);
-        if teta == 0.0 {
-            teta = 1e-9;
-        }
-        let d = 1.0 / phi.tan();
-        let s = teta.tan() / phi.tan();
-        let r = ((1.0 + s * s) / (d * d)).sqrt();
-        let fact = if r > 0.6 { 1.2 } else { 0.8 };
-        1.0 + fact * r.min(3.0)
-    };
-    p.min(16.0)
-}
-
 /// dcglare's enhanced simplified DGP (`cm_glare` in `src/util/cmglare.c`; Jones 2019) from
 /// the eye sensor alone, for comparison: E_v from the total coefficients with the
 /// gendaymtx sky (sun spread over patches, no exact disc); every sky patch seen directly
@@ -489,7 +438,7 @@ fn dcglare_edgps(c: &Coefficients, sky: &StepSky, vdir: V3, vup: V3, thr: f64) -
     } else {
         thr
     };
-    let mut sum = 0.0;
+    let mut sources = Vec::new();
     for (p, &sun_p) in sun.iter().enumerate() {
         let e = c.eye_direct_sky[p] * sky.scalar[p] + c.eye_direct_sun[p] * sun_p;
         if e <= 0.0 {
@@ -518,10 +467,14 @@ fn dcglare_edgps(c: &Coefficients, sky: &StepSky, vdir: V3, vup: V3, thr: f64) -
         if lum < min_lum {
             continue;
         }
-        let pos = dcglare_posindex(dir, vdir, vup);
-        sum += lum * lum * omega / (pos * pos);
+        sources.push(SourceTerm {
+            lum,
+            omega,
+            pos: posindex::dcglare_posindex(dir, vdir, vup),
+            sigma: cos.acos(),
+        });
     }
-    let mut d = 5.87e-5 * ev + 0.0918 * (1.0 + sum / ev.powf(1.87)).log10() + 0.16;
+    let mut d = metrics::dgp(ev, &sources, &DgpCoefficients::DCGLARE);
     if ev < 1000.0 {
         d *= metrics::low_light_factor(ev);
     }
@@ -710,6 +663,7 @@ mod tests {
     #[test]
     fn dcglare_position_index_ahead_and_below() {
         let (f, up) = ([0.0, -1.0, 0.0], [0.0, 0.0, 1.0]);
+        use posindex::dcglare_posindex;
         assert!((dcglare_posindex(f, f, up) - 1.0).abs() < 1e-9);
         // 20° straight below: θ = 0, r = |tan φ| = 0.364 ≤ 0.6, P = 1 + 0.8 r
         let a = 20f64.to_radians();

@@ -32,6 +32,14 @@ pub struct DgpCoefficients {
     pub c: [f64; 3],
 }
 
+impl DgpCoefficients {
+    /// dcglare's rounded constants (`cmglare.c`): c2 = 0.0918, c3 = 0.16.
+    pub const DCGLARE: DgpCoefficients = DgpCoefficients {
+        a: [2.0, 1.0, 1.87, 2.0, 1.0],
+        c: [5.87e-5, 0.0918, 0.16],
+    };
+}
+
 impl Default for DgpCoefficients {
     /// Wienold & Christoffersen (2006), as evalglare uses them.
     fn default() -> Self {

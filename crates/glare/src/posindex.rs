@@ -70,6 +70,48 @@ pub fn angles(vdir: V3, vup: V3, d: V3) -> Angles {
     Angles { sigma, tau, phi }
 }
 
+/// Guth's position index (IES Lighting Handbook) for the angle τ from the vertical and σ
+/// from the line of sight, both in degrees, uncapped (formula in the module documentation).
+/// evalglare and dcglare both use it above the line of sight; they measure τ differently.
+pub fn guth(tau: f64, sigma: f64) -> f64 {
+    ((35.2 - 0.31889 * tau - 1.22 * (-2.0 * tau / 9.0).exp()) / 1000.0 * sigma
+        + (21.0 + 0.26667 * tau - 0.002963 * tau * tau) / 100000.0 * sigma * sigma)
+        .exp()
+}
+
+/// dcglare's position index (`get_guth` in `src/util/cmglare.c`, Radiance 6): [`guth`]
+/// above the line of sight, with τ measured from `D + d/cos σ` (where evalglare uses
+/// `d/cos σ − D`); below it the Iwata/Osterhaus form `P = 1 + f r`,
+/// `r = min(3, √((1 + s²)/d²))`, `d = 1/tan φ`, `s = tan θ/tan φ`, θ the horizontal angle,
+/// `f = 0.8`, 1.2 when `r > 0.6`; capped at 16; not rounded to `float`.
+pub fn dcglare_posindex(dir: V3, forward: V3, up: V3) -> f64 {
+    let angle = |a: V3, b: V3| dot(a, b).clamp(-1.0, 1.0).acos();
+    let hv = normalize(cross(forward, up));
+    let vert = cross(forward, hv);
+    let phi = angle(dir, vert) - std::f64::consts::FRAC_PI_2;
+    let p = if phi >= 0.0 {
+        let sigma = angle(dir, forward).abs().to_degrees();
+        let c = dot(dir, forward);
+        let h = normalize([
+            forward[0] + dir[0] / c,
+            forward[1] + dir[1] / c,
+            forward[2] + dir[2] / c,
+        ]);
+        guth(angle(h, up).to_degrees(), sigma)
+    } else {
+        let mut teta = std::f64::consts::FRAC_PI_2 - angle(dir, hv);
+        if teta == 0.0 {
+            teta = 1e-9;
+        }
+        let d = 1.0 / phi.tan();
+        let s = teta.tan() / phi.tan();
+        let r = ((1.0 + s * s) / (d * d)).sqrt();
+        let fact = if r > 0.6 { 1.2 } else { 0.8 };
+        1.0 + fact * r.min(3.0)
+    };
+    p.min(16.0)
+}
+
 /// evalglare's degrees per radian (`180/3.1415927`).
 pub const DEG: f64 = 180.0 / super::metrics::PI_EG;
 
@@ -85,9 +127,7 @@ pub fn posindex(vdir: V3, vup: V3, d: V3, model: PosModel) -> f64 {
             / (-0.000009 * tau.powi(3) + 0.0013 * tau * tau + 0.0853 * tau + 8.772))
             .exp(),
         PosModel::GuthIwata => {
-            let mut p = ((35.2 - 0.31889 * tau - 1.22 * (-2.0 * tau / 9.0).exp()) / 1000.0 * sigma
-                + (21.0 + 0.26667 * tau - 0.002963 * tau * tau) / 100000.0 * sigma * sigma)
-                .exp();
+            let mut p = guth(tau, sigma);
             if phi < 0.0 {
                 let beta = ((sigma / DEG).tan()
                     * (1.0 + 0.3225 * (tau / DEG).cos().powi(2)).sqrt())
