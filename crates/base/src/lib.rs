@@ -6,7 +6,8 @@
 //! - [`radiometry`]: channel layouts (RGB or N spectral bands) and Radiance's RGB constants;
 //! - [`colour`]: colour science (CIE tables, observers, band integrals, melanopic weights);
 //! - [`io`]: atomic output (nothing half-written) and stream checks;
-//! - [`stats`]: order statistics (median, percentiles).
+//! - [`stats`]: order statistics (median, percentiles);
+//! - [`vec3`]: 3-vectors ([`vec3::Vec3`] and helpers on `[f64; 3]`).
 //!
 //! The layers above, lowest first: `rdaylight-formats` (Radiance's file formats and the
 //! `.rad` scene grammar), `rdaylight-physics` (geometry, materials, skies, the `.cal`
@@ -19,5 +20,6 @@ pub mod error;
 pub mod io;
 pub mod radiometry;
 pub mod stats;
+pub mod vec3;
 
 pub use error::{Error, Location, Result};

@@ -26,14 +26,9 @@
 use crate::formats::picture::Picture;
 use crate::formats::view::Camera;
 
-/// 3-vector.
-pub type V3 = [f64; 3];
-
-/// Dot product in Radiance's order (`DOT`): bit-identical sums keep `acos(dot)` of a pixel
-/// with itself as evalglare has it.
-pub fn dot(a: V3, b: V3) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
+/// 3-vectors; the dot product in Radiance's order (`DOT`) keeps `acos(dot)` of a pixel with
+/// itself bit-identical to evalglare's.
+pub use crate::vec3::{V3, dot};
 
 /// The pixels of one picture in evalglare's layout (see the module documentation).
 #[derive(Debug, Clone)]

@@ -16,7 +16,7 @@
 //!
 //! evalglare converts with `deg = 180/3.1415927` and returns P as a `float`; both are kept.
 
-use super::pixels::{V3, dot};
+use crate::vec3::{V3, cross, dot, normalized as normalize};
 
 /// Which position-index model (`-P`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -37,23 +37,6 @@ pub struct Angles {
     pub tau: f64,
     /// φ (rad), negative below the line of sight.
     pub phi: f64,
-}
-
-fn normalize(v: V3) -> V3 {
-    let l = dot(v, v).sqrt();
-    if l == 0.0 {
-        v
-    } else {
-        [v[0] / l, v[1] / l, v[2] / l]
-    }
-}
-
-fn cross(a: V3, b: V3) -> V3 {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
 }
 
 /// σ, τ and φ of `d` (see the module documentation).

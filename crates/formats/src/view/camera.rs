@@ -5,55 +5,8 @@
 
 use super::{View, ViewType};
 use crate::error::{Error, Result};
+use crate::vec3::{FTINY, V3, add, cross, dot, normalize_radiance as normalize, scale, sub};
 use std::f64::consts::PI;
-
-/// Radiance's `FTINY` for double-precision builds (`src/common/fvect.h`).
-const FTINY: f64 = 1e-6;
-
-type V3 = [f64; 3];
-
-fn dot(a: V3, b: V3) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-fn cross(a: V3, b: V3) -> V3 {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-
-fn scale(a: V3, s: f64) -> V3 {
-    [a[0] * s, a[1] * s, a[2] * s]
-}
-
-fn add(a: V3, b: V3) -> V3 {
-    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
-}
-
-fn sub(a: V3, b: V3) -> V3 {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-/// Normalise in place and return the old length, as Radiance's `normalize` (`fvect.c`) does,
-/// including its first-order shortcut for squared lengths within `FTINY` of 1; keeping the
-/// shortcut makes our vectors agree with Radiance's to the last bits rather than to 1e-12.
-fn normalize(v: &mut V3) -> f64 {
-    let d = dot(*v, *v);
-    if d == 0.0 {
-        return 0.0;
-    }
-    let (len, inv) = if (1.0 - FTINY..=1.0 + FTINY).contains(&d) {
-        let len = 0.5 + 0.5 * d;
-        (len, 2.0 - len)
-    } else {
-        let len = d.sqrt();
-        (len, 1.0 / len)
-    };
-    *v = scale(*v, inv);
-    len
-}
 
 /// One view ray.
 #[derive(Debug, Clone, Copy, PartialEq)]

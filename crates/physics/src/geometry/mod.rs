@@ -1,6 +1,6 @@
 //! Scene geometry for the ray tracer: shapes, rays, polygon triangulation, and one BVH.
 //!
-//! - [`vec3`]: the `f64` vector of the hot path.
+//! - `Vec3`: the `f64` vector of the hot path (`rdaylight_base::vec3`).
 //! - [`ray`]: [`Ray`], [`Hit`] (Radiance's front side) and the secondary-ray offset.
 //! - [`triangulate`]: ear clipping for Radiance polygons (non-convex, holes joined by seams).
 //! - [`shapes`]: [`Shape`] (polygon, sphere/bubble, cone/cup, cylinder/tube, ring), filled by
@@ -25,10 +25,9 @@ pub mod bvh;
 pub mod ray;
 pub mod shapes;
 pub mod triangulate;
-pub mod vec3;
 
 pub use bvh::{BuildError, Bvh};
 pub use ray::{Hit, Ray, offset_distance};
+pub use rdaylight_base::vec3::{self, Vec3};
 pub use shapes::{Object, Shape, ShapeError};
 pub use triangulate::{PolygonError, polygon_area, triangulate};
-pub use vec3::Vec3;

@@ -14,45 +14,10 @@
 
 use std::f64::consts::PI;
 
-/// A point or direction.
-pub type V3 = [f64; 3];
+pub use crate::vec3::{FTINY, V3, add, cross, dot, neg, scale, sub};
 
-/// Radiance's `FTINY` (double build, `src/common/fvect.h`).
-pub const FTINY: f64 = 1e-6;
-
-pub fn dot(a: V3, b: V3) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-pub fn add(a: V3, b: V3) -> V3 {
-    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
-}
-
-pub fn sub(a: V3, b: V3) -> V3 {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-pub fn scale(a: V3, s: f64) -> V3 {
-    [a[0] * s, a[1] * s, a[2] * s]
-}
-
-pub fn neg(a: V3) -> V3 {
-    [-a[0], -a[1], -a[2]]
-}
-
-pub fn cross(a: V3, b: V3) -> V3 {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-
-/// Unit vector along `a`; `a` itself when it has zero length.
-pub fn normalize(a: V3) -> V3 {
-    let l = dot(a, a).sqrt();
-    if l > 0.0 { scale(a, 1.0 / l) } else { a }
-}
+/// The samplers' normalisation (`a (1/|a|)`, [`crate::vec3::normalized_recip`]).
+pub use crate::vec3::normalized_recip as normalize;
 
 /// Mirror direction of `wo` about `n` (both away from the surface).
 pub fn reflect(wo: V3, n: V3) -> V3 {

@@ -18,13 +18,13 @@ use super::intake;
 use super::output::{self, Sink};
 use super::traced::Traced;
 use super::tracer::{
-    Estimator, Mode, Quantity, Query, Rng, Stratum, SunDisc, Tally, TraceParams, normalized,
-    record_rng,
+    Estimator, Mode, Quantity, Query, Rng, Stratum, SunDisc, Tally, TraceParams, record_rng,
 };
 use crate::error::{Error, Location, Result};
 use crate::formats::matrix::DataFormat;
 use crate::formats::sensors::{Ray, RayFormat, RayReader};
 use crate::formats::view::{Camera, View};
+use crate::geometry::vec3::normalized;
 use crate::material::ShadingOptions;
 use crate::radiometry::{Channels, RGB_PHOTOPIC, luminance_rounded};
 use crate::scene::{LoadOptions, Scene};

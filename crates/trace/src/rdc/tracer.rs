@@ -27,6 +27,7 @@
 //! coefficient of an upward sensor is its patch's projected solid angle, the row sums to
 //! pi), which the tests compare with and with real rcontrib/rtrace.
 
+use crate::geometry::vec3::normalized;
 use crate::sky::SkyPatches;
 use crate::trace::reweight::{Signature, TermTally};
 use rand::Rng as _;
@@ -394,61 +395,20 @@ impl Tally {
     }
 }
 
-/// A direction about unit `n` with density `cos(theta) / pi` (Malley's method: a uniform
-/// point on the unit disc lifted to the hemisphere).
-pub fn cosine_direction(n: [f64; 3], rng: &mut Rng) -> [f64; 3] {
-    let u: f64 = rng.random();
-    let v: f64 = rng.random();
-    let r = u.sqrt();
-    let phi = 2.0 * PI * v;
-    let (x, y) = (r * phi.cos(), r * phi.sin());
-    let z = (1.0 - u).max(0.0).sqrt();
-    let (t, b) = basis(n);
-    normalized([
-        t[0] * x + b[0] * y + n[0] * z,
-        t[1] * x + b[1] * y + n[1] * z,
-        t[2] * x + b[2] * y + n[2] * z,
-    ])
-}
-
-/// Two unit vectors completing unit `n` to an orthonormal basis (Duff et al. 2017,
-/// "Building an Orthonormal Basis, Revisited").
-pub fn basis(n: [f64; 3]) -> ([f64; 3], [f64; 3]) {
-    let s = if n[2] >= 0.0 { 1.0 } else { -1.0 };
-    let a = -1.0 / (s + n[2]);
-    let b = n[0] * n[1] * a;
-    (
-        [1.0 + s * n[0] * n[0] * a, s * b, -s * n[0]],
-        [b, s + n[1] * n[1] * a, -n[1]],
-    )
-}
-
-pub fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-/// `v / |v|`, or `v` itself when it is zero.
-pub fn normalized(v: [f64; 3]) -> [f64; 3] {
-    let l = dot(v, v).sqrt();
-    if l > 0.0 {
-        [v[0] / l, v[1] / l, v[2] / l]
-    } else {
-        v
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
 
     #[test]
     fn cosine_directions_are_unit_and_above_the_surface() {
+        use crate::geometry::vec3::dot;
+        use crate::material::sampling::cosine_hemisphere;
         let mut rng = record_rng(1, 2);
         let n = normalized([0.3, -0.5, 0.8]);
         let mut mean_cos = 0.0;
         let k = 20000;
         for _ in 0..k {
-            let d = cosine_direction(n, &mut rng);
+            let d = cosine_hemisphere(n, rng.random(), rng.random());
             assert!((dot(d, d) - 1.0).abs() < 1e-12);
             assert!(dot(d, n) >= -1e-12);
             mean_cos += dot(d, n);

@@ -1,4 +1,13 @@
-//! A small `f64` 3-vector for the ray-tracing hot path.
+//! 3-vectors, one home for the whole stack: [`Vec3`], a small `f64` 3-vector for the
+//! ray-tracing hot path, and free functions on `[f64; 3]` ([`V3`]) for code that keeps
+//! plain arrays (formats, samplers, glare, reconstruction).
+//!
+//! Three normalisations are kept on purpose, each bit-identical to what its users have
+//! always computed (outputs are compared byte for byte across versions and with Radiance):
+//! [`normalized`] divides by the length (as [`Vec3::normalize`]); [`normalized_recip`]
+//! multiplies by its reciprocal (the material samplers); [`normalize_radiance`] is
+//! Radiance's `normalize` (`src/common/fvect.c`) with its first-order shortcut for lengths
+//! within `FTINY` of 1 (views and cameras, to agree with Radiance to the last bits).
 //!
 //! Why not `nalgebra::Vector3<f64>`: nalgebra's generic storage compiles to the same code in
 //! release builds, but its debug builds (which the test profile uses for this crate) are many
@@ -183,5 +192,104 @@ impl Neg for Vec3 {
     #[inline(always)]
     fn neg(self) -> Vec3 {
         Vec3::new(-self.x, -self.y, -self.z)
+    }
+}
+
+/// A point or direction as a plain array.
+pub type V3 = [f64; 3];
+
+/// Radiance's `FTINY` (double build, `src/common/fvect.h`).
+pub const FTINY: f64 = 1e-6;
+
+/// Dot product in Radiance's order (`DOT`: x, then y, then z).
+#[inline(always)]
+pub fn dot(a: V3, b: V3) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+#[inline(always)]
+pub fn add(a: V3, b: V3) -> V3 {
+    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
+}
+
+#[inline(always)]
+pub fn sub(a: V3, b: V3) -> V3 {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+#[inline(always)]
+pub fn scale(a: V3, s: f64) -> V3 {
+    [a[0] * s, a[1] * s, a[2] * s]
+}
+
+#[inline(always)]
+pub fn neg(a: V3) -> V3 {
+    [-a[0], -a[1], -a[2]]
+}
+
+#[inline(always)]
+pub fn cross(a: V3, b: V3) -> V3 {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+/// `a / |a|`, or `a` itself when it is zero.
+#[inline(always)]
+pub fn normalized(a: V3) -> V3 {
+    let l = dot(a, a).sqrt();
+    if l > 0.0 {
+        [a[0] / l, a[1] / l, a[2] / l]
+    } else {
+        a
+    }
+}
+
+/// `a (1 / |a|)`, or `a` itself when it is zero (the material samplers' rounding).
+#[inline(always)]
+pub fn normalized_recip(a: V3) -> V3 {
+    let l = dot(a, a).sqrt();
+    if l > 0.0 { scale(a, 1.0 / l) } else { a }
+}
+
+/// Normalise in place and return the old length, as Radiance's `normalize` (`fvect.c`)
+/// does, including its first-order shortcut for squared lengths within `FTINY` of 1;
+/// keeping the shortcut makes vectors agree with Radiance's to the last bits rather than to
+/// 1e-12. A zero vector stays zero (length 0).
+pub fn normalize_radiance(v: &mut V3) -> f64 {
+    let d = dot(*v, *v);
+    if d == 0.0 {
+        return 0.0;
+    }
+    let (len, inv) = if (1.0 - FTINY..=1.0 + FTINY).contains(&d) {
+        let len = 0.5 + 0.5 * d;
+        (len, 2.0 - len)
+    } else {
+        let len = d.sqrt();
+        (len, 1.0 / len)
+    };
+    *v = scale(*v, inv);
+    len
+}
+
+#[cfg(test)]
+mod array_tests {
+    use super::*;
+
+    #[test]
+    fn normalisations_agree_to_rounding_and_keep_zero() {
+        let a = [3.0, -4.0, 12.0];
+        let (n1, n2) = (normalized(a), normalized_recip(a));
+        let mut n3 = a;
+        assert_eq!(normalize_radiance(&mut n3), 13.0);
+        for i in 0..3 {
+            assert!((n1[i] - n2[i]).abs() < 1e-15 && (n1[i] - n3[i]).abs() < 1e-15);
+        }
+        assert_eq!(Vec3::from(a).normalize().to_array(), n1);
+        assert_eq!(normalized([0.0; 3]), [0.0; 3]);
+        assert_eq!(normalized_recip([0.0; 3]), [0.0; 3]);
+        assert_eq!(cross([1.0, 0.0, 0.0], [0.0, 1.0, 0.0]), [0.0, 0.0, 1.0]);
     }
 }
