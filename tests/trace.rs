@@ -18,7 +18,7 @@ use rdaylight::material::{Color, ShadingOptions};
 use rdaylight::radiometry::Channels;
 use rdaylight::scene::{self, LoadOptions, Scene};
 use rdaylight::sky::SkyPatches;
-use rdaylight::trace::{Renderable, TraceParams};
+use rdaylight::trace::{PathLimits, Renderable};
 use std::f64::consts::PI;
 
 fn fixture(rel: &str) -> String {
@@ -84,11 +84,11 @@ fn quantile(v: &mut [f64], q: f64) -> f64 {
     v[((v.len() - 1) as f64 * q).round() as usize]
 }
 
-fn dc_params(ab: u32) -> TraceParams {
-    TraceParams {
+fn dc_params(ab: u32) -> PathLimits {
+    PathLimits {
         ab,
         lw: 1e-5,
-        ..TraceParams::rcontrib()
+        ..PathLimits::rcontrib()
     }
 }
 
@@ -211,7 +211,7 @@ fn furnace_av(ab: u32) -> Vec<f64> {
         &ShadingOptions::rtrace(),
     )
     .unwrap();
-    let params = TraceParams {
+    let params = PathLimits {
         ab,
         lw: 1e-5,
         max_depth: 10,
@@ -248,10 +248,10 @@ fn grey_furnace_with_ambient_value_matches_pi_half_to_the_ab() {
 
 #[test]
 fn glow_furnace_reads_pi_inside_and_zero_behind_the_glow() {
-    let params = TraceParams {
+    let params = PathLimits {
         ab: 1,
         lw: 1e-5,
-        ..TraceParams::rtrace()
+        ..PathLimits::rtrace()
     };
     let mut rng = Pcg64::seed_from_u64(9);
     for (file, want, oracle) in [
@@ -287,7 +287,7 @@ fn radiance_view_rays_see_sun_sky_and_ground_glow() {
     let s = load(&["skies/clear_gendaylit.rad", "skies/skyglow.rad"]);
     let r = Renderable::compile(&s, &Channels::rgb(), &ShadingOptions::rtrace()).unwrap();
     let mut rng = Pcg64::seed_from_u64(1);
-    let p = TraceParams::rtrace();
+    let p = PathLimits::rtrace();
     let sun = Vec3::new(-0.073170, -0.855646, 0.512363);
     let (l, _) = r.radiance(Vec3::ZERO, sun, &p, &mut rng);
     assert_eq!(l.as_slice()[0], 6.911e6_f32);
@@ -313,7 +313,7 @@ fn first_glow_wins_among_overlapping_distant_glows() {
     .unwrap();
     let r = Renderable::compile(&s, &Channels::rgb(), &ShadingOptions::rtrace()).unwrap();
     let mut rng = Pcg64::seed_from_u64(1);
-    let p = TraceParams::rtrace();
+    let p = PathLimits::rtrace();
     let up = r
         .radiance(Vec3::ZERO, Vec3::new(0., 0., 1.), &p, &mut rng)
         .0;
@@ -473,10 +473,10 @@ fn points_vs_rtrace(scene: &str, case: &str, spread: (f64, f64)) {
     .unwrap();
     let reference = points(&format!("points/{scene}_{case}.txt"));
     let all = sensors("sensors/office.pts");
-    let params = TraceParams {
+    let params = PathLimits {
         ab: 5,
         lw: 1e-5,
-        ..TraceParams::rtrace()
+        ..PathLimits::rtrace()
     };
     let mut rng = Pcg64::seed_from_u64(77);
     let mut diffs = Vec::new();
@@ -542,10 +542,10 @@ fn open_sensor_irradiance_is_sun_plus_integrated_perez_sky() {
     assert!(grid_err < 5e-3 * sky, "grid {grid_err}");
     let sun = r.sources().lights().next().unwrap();
     let direct = sun.color.as_slice()[0] as f64 * sun.omega * sun.dir.z;
-    let params = TraceParams {
+    let params = PathLimits {
         ab: 1,
         lw: 1e-5,
-        ..TraceParams::rtrace()
+        ..PathLimits::rtrace()
     };
     let mut rng = Pcg64::seed_from_u64(21);
     let (e, stats) = r.irradiance(Vec3::ZERO, Vec3::new(0., 0., 1.), 20000, &params, &mut rng);
@@ -609,10 +609,10 @@ fn view_ray_radiance_agrees_with_live_rtrace() {
     assert_eq!(vals.len(), rays.len() * K);
     let r =
         Renderable::compile(&load(&files), &Channels::rgb(), &ShadingOptions::rtrace()).unwrap();
-    let params = TraceParams {
+    let params = PathLimits {
         ab: 3,
         lw: 1e-5,
-        ..TraceParams::rtrace()
+        ..PathLimits::rtrace()
     };
     let mut rng = Pcg64::seed_from_u64(8);
     for (k, ray) in rays.iter().enumerate() {
@@ -695,7 +695,7 @@ fn gensky_skyfunc_is_evaluated_natively() {
         .unwrap();
     let mut rng = Pcg64::seed_from_u64(1);
     for d in [[0.0, 0.0, 1.0], [0.0, -0.6, 0.8], [0.8, 0.0, -0.6]] {
-        let (l, _) = r.radiance(Vec3::ZERO, Vec3::from(d), &TraceParams::rtrace(), &mut rng);
+        let (l, _) = r.radiance(Vec3::ZERO, Vec3::from(d), &PathLimits::rtrace(), &mut rng);
         let want = rdaylight::sky::cie::skybright(d, &skyfunc);
         assert!(want > 0.0);
         assert!((l.as_slice()[0] as f64 - want).abs() < 1e-5 * want, "{d:?}");

@@ -13,13 +13,11 @@
 //! ([`Tally::relative_se`]) is at most the target or `--max-samples` is reached. The value
 //! written is the mean over all samples taken.
 
-use super::config::{Config, IRRADIANCE_OFFSET, MAX_MF, RPICT_RES, Sampling, SunSource, Target};
+use super::config::{Config, IRRADIANCE_OFFSET, MAX_MF, RPICT_RES, SunSource, Target};
 use super::intake;
 use super::output::{self, Sink};
 use super::traced::Traced;
-use super::tracer::{
-    Estimator, Mode, Quantity, Query, Rng, Stratum, SunDisc, Tally, TraceParams, record_rng,
-};
+use super::tracer::{Estimator, Mode, Quantity, Query, Rng, Stratum, SunDisc, Tally, record_rng};
 use crate::error::{Error, Location, Result};
 use crate::formats::matrix::DataFormat;
 use crate::formats::sensors::{Ray, RayFormat, RayReader};
@@ -225,12 +223,11 @@ impl Tracer {
                 suns, angle_deg, ..
             } => (None, Some(sun_discs(suns, *angle_deg)?)),
         };
-        let params = trace_params(&sampling);
         let tracking = match &config.reweight {
             Some(r) => Some(renderable.tracking(scene, r.materials.as_deref())?),
             None => None,
         };
-        let mut estimator = Traced::new(renderable, &params, sampling.ad);
+        let mut estimator = Traced::new(renderable, &sampling, sampling.ad);
         let mut reweight = None;
         if let (Some(r), Some(t)) = (&config.reweight, tracking) {
             reweight = r.path.as_ref().map(|path| ReweightOut {
@@ -446,18 +443,6 @@ fn check_sky(r: &Renderable, scene: &[String]) -> Result<()> {
         )));
     }
     Ok(())
-}
-
-/// What the tracer receives of the sampling settings.
-pub fn trace_params(s: &Sampling) -> TraceParams {
-    TraceParams {
-        ab: s.ab,
-        lw: s.lw,
-        lr: s.lr,
-        dj: s.dj,
-        st: s.st,
-        ss: s.ss,
-    }
 }
 
 /// Suns for `--suns`: a number = Reinhart patch centres (ground column empty), otherwise a

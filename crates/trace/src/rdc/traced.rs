@@ -14,24 +14,23 @@
 //! `-lw` has its Radiance meaning. Sensor points are offset `1e-4` along their normal
 //! (`eval_irrad`).
 
+use super::config::Sampling;
 use super::tracer::SunDisc;
-use super::tracer::{
-    Estimator, Mode, Quantity, Query, Rng, Stratum, Tally, TraceParams as DriverParams,
-};
+use super::tracer::{Estimator, Mode, Quantity, Query, Rng, Stratum, Tally};
 use crate::geometry::Vec3;
 use crate::material::Color;
 use crate::material::sampling::cosine_hemisphere;
 use crate::radiometry::MAX_SAMPLES;
 use crate::trace::integrator::{PathSink, SENSOR_OFFSET};
 use crate::trace::reweight::{Events, Tracking};
-use crate::trace::{Renderable, TraceParams};
+use crate::trace::{PathLimits, Renderable};
 use std::f64::consts::PI;
 use std::sync::atomic::{AtomicU64, Ordering};
 
 pub struct Traced {
     scene: Renderable,
-    params: TraceParams,
-    direct_params: TraceParams,
+    params: PathLimits,
+    direct_params: PathLimits,
     /// Starting path weight for `-lw` roulette (1/`-ad`).
     w0: f64,
     /// Materials whose re-weighting terms are recorded (`--reweight`).
@@ -41,11 +40,11 @@ pub struct Traced {
 }
 
 impl Traced {
-    pub fn new(scene: Renderable, p: &DriverParams, ad: usize) -> Traced {
+    pub fn new(scene: Renderable, p: &Sampling, ad: usize) -> Traced {
         // `-lr N`: at most |N| reflections (Radiance caps the depth for negative N too;
         // 0 means no cap, where 10 guards against endless mirror pairs).
         let max_depth = if p.lr == 0 { 10 } else { p.lr.unsigned_abs() };
-        let params = TraceParams {
+        let params = PathLimits {
             ab: p.ab,
             lw: p.lw,
             max_depth,
@@ -54,7 +53,7 @@ impl Traced {
         Traced {
             scene,
             params,
-            direct_params: TraceParams {
+            direct_params: PathLimits {
                 ab: p.ab.min(1),
                 ..params
             },

@@ -122,24 +122,6 @@ impl Mode<'_> {
     }
 }
 
-/// Tracing limits as the tracer sees them (Radiance's letters; see `options.rs` for which
-/// ones the tracer honours).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct TraceParams {
-    /// `-ab`: maximum number of diffuse bounces.
-    pub ab: u32,
-    /// `-lw`: minimum path weight before Russian roulette.
-    pub lw: f64,
-    /// `-lr`: maximum reflections (<= 0: Russian roulette only, with |lr| as a hard cap).
-    pub lr: i32,
-    /// `-dj`: source jitter.
-    pub dj: f64,
-    /// `-st`: specular sampling threshold.
-    pub st: f64,
-    /// `-ss`: specular sampling.
-    pub ss: f64,
-}
-
 /// The light transport behind the driver. `Sync`: one estimator serves every thread.
 pub trait Estimator: Sync {
     /// Trace ONE sample of record `query` and add its contributions with [`Tally::add`]

@@ -65,9 +65,10 @@ use std::f64::consts::PI;
 /// Radiance's sensor offsets: shading point `org + 1e-4 dir` (`eval_irrad`).
 pub const SENSOR_OFFSET: f64 = 1e-4;
 
-/// Path-depth options (Radiance's `-ab`, `-lw`, `-lr`, `-av`).
+/// Path limits (Radiance's `-ab`, `-lw`, `-lr`, `-av`) as the integrator applies them; the
+/// driver derives them from `rdc::Sampling`.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct TraceParams {
+pub struct PathLimits {
     /// Maximum number of diffuse bounces (`-ab`).
     pub ab: u32,
     /// Russian-roulette weight threshold (`-lw`); 0 disables roulette.
@@ -78,10 +79,10 @@ pub struct TraceParams {
     pub ambient_value: Option<Color>,
 }
 
-impl TraceParams {
+impl PathLimits {
     /// rcontrib 6.0a defaults: `-ab 1 -lw 2e-3 -lr -10 -av 0 0 0`.
     pub const fn rcontrib() -> Self {
-        TraceParams {
+        PathLimits {
             ab: 1,
             lw: 2e-3,
             max_depth: 10,
@@ -91,7 +92,7 @@ impl TraceParams {
 
     /// rtrace 6.0a defaults: `-ab 0 -lw 1e-4 -lr -10 -av 0 0 0`.
     pub const fn rtrace() -> Self {
-        TraceParams {
+        PathLimits {
             ab: 0,
             lw: 1e-4,
             max_depth: 10,
@@ -397,7 +398,7 @@ impl Renderable {
         mut ray: Ray,
         mut st: PathState,
         w0: f64,
-        params: &TraceParams,
+        params: &PathLimits,
         mode: Mode,
         rng: &mut impl Rng,
         rays: &mut u64,
@@ -508,7 +509,7 @@ impl Renderable {
         mut st: PathState,
         smp: crate::material::Sample,
         w0: f64,
-        params: &TraceParams,
+        params: &PathLimits,
         mode: Mode,
         rng: &mut impl Rng,
         track: Option<&Tracking>,
@@ -563,7 +564,7 @@ impl Renderable {
         org: Vec3,
         normal: Vec3,
         nsamples: usize,
-        params: &TraceParams,
+        params: &PathLimits,
         patches: &SkyPatches,
         rng: &mut impl Rng,
         out: &mut [f64],
@@ -625,7 +626,7 @@ impl Renderable {
         org: Vec3,
         normal: Vec3,
         nsamples: usize,
-        params: &TraceParams,
+        params: &PathLimits,
         rng: &mut impl Rng,
     ) -> (Color, SampleStats) {
         let nc = self.ncomp;
@@ -696,7 +697,7 @@ impl Renderable {
         &self,
         org: Vec3,
         dir: Vec3,
-        params: &TraceParams,
+        params: &PathLimits,
         rng: &mut impl Rng,
     ) -> (Color, u64) {
         let dir = dir.normalize();
@@ -745,7 +746,7 @@ impl Renderable {
         from_sensor: bool,
         coefficients: bool,
         w0: f64,
-        params: &TraceParams,
+        params: &PathLimits,
         rng: &mut impl Rng,
         track: Option<&Tracking>,
         escape: &mut dyn FnMut(Vec3, Color, &Events),
@@ -791,7 +792,7 @@ impl Renderable {
         dir: Vec3,
         from_sensor: bool,
         w0: f64,
-        params: &TraceParams,
+        params: &PathLimits,
         rng: &mut impl Rng,
         track: Option<&Tracking>,
         sink: &mut dyn PathSink,

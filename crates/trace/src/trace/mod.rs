@@ -21,7 +21,7 @@
 //! use rdaylight_base::radiometry::Channels;
 //! use rdaylight_formats::scene::{self, LoadOptions};
 //! use rdaylight_physics::sky::SkyPatches;
-//! use rdaylight_trace::trace::{Renderable, TraceParams};
+//! use rdaylight_trace::trace::{Renderable, PathLimits};
 //! use rdaylight_physics::geometry::Vec3;
 //! use rand::SeedableRng;
 //! let text = "void glow skyglow 0 0 4 1 1 1 0\nskyglow source sky 0 0 4 0 0 1 360\n";
@@ -30,7 +30,7 @@
 //! let patches = SkyPatches::new(1);
 //! let mut dc = vec![0.0; patches.len() * 3];
 //! let mut rng = rand_pcg::Pcg64::seed_from_u64(1);
-//! let params = TraceParams { ab: 5, lw: 1e-5, ..TraceParams::rcontrib() };
+//! let params = PathLimits { ab: 5, lw: 1e-5, ..PathLimits::rcontrib() };
 //! r.dc_sensor(Vec3::ZERO, Vec3::new(0., 0., 1.), 1000, &params, &patches, &mut rng, &mut dc);
 //! let total: f64 = dc.iter().step_by(3).sum();
 //! assert!((total - std::f64::consts::PI).abs() < 1e-9); // every path escapes: row sum pi
@@ -43,7 +43,7 @@ pub mod reweight;
 pub mod sources;
 
 pub use compile::{Renderable, SurfaceInfo};
-pub use integrator::{SampleStats, TraceParams};
+pub use integrator::{PathLimits, SampleStats};
 pub use sources::{DistantKind, DistantSource, SkyPattern, Sources};
 
 /// Revision of the path tracer's sampling: change it whenever a given seed starts giving
