@@ -2,6 +2,7 @@
 //!
 //! What every other layer shares and nothing in it depends on a higher one:
 //!
+//! - [`calendar`]: day numbers (Radiance's `jdate` and the 0-based day of a year);
 //! - [`error`]: one error type whose user-input errors carry file, line and column;
 //! - [`radiometry`]: channel layouts (RGB or N spectral bands) and Radiance's RGB constants;
 //! - [`colour`]: colour science (CIE tables, observers, band integrals, melanopic weights);
@@ -15,6 +16,7 @@
 //! analyses (`rdaylight-metrics`, `-glare`, `-reflectance`, `-calib`, `-recon`) and the
 //! tools (the `rdaylight` crate's binaries). `docs/architecture.md` draws them.
 
+pub mod calendar;
 pub mod colour;
 pub mod error;
 pub mod io;

@@ -171,12 +171,10 @@ pub fn weekday_from_name(s: &str) -> Option<u8> {
         .map(|i| i as u8)
 }
 
-/// Day of the year, 0-based.
+/// Day of the year, 0-based, 29 February counted in leap years
+/// (`rdaylight_base::calendar::day_index`).
 pub fn day_of_year(month: u8, day: u8, leap: bool) -> u32 {
-    const CUM: [u32; 12] = [0, 31, 59, 90, 120, 151, 181, 212, 243, 273, 304, 334];
-    let m = month.clamp(1, 12) as usize;
-    let extra = u32::from(leap && m > 2);
-    CUM[m - 1] + extra + u32::from(day.max(1)) - 1
+    rdaylight_base::calendar::day_index(month.into(), day.into(), leap)
 }
 
 impl Weekdays {

@@ -27,23 +27,8 @@ pub enum Exposure {
     Stops(f64),
 }
 
-/// sRGB encoding of a linear value in [0, 1].
-fn srgb_encode(v: f64) -> f64 {
-    if v <= 0.0031308 {
-        12.92 * v
-    } else {
-        1.055 * v.powf(1.0 / 2.4) - 0.055
-    }
-}
-
-/// sRGB decoding of an encoded value in [0, 1].
-pub fn srgb_decode(v: f64) -> f64 {
-    if v <= 0.04045 {
-        v / 12.92
-    } else {
-        ((v + 0.055) / 1.055).powf(2.4)
-    }
-}
+/// The sRGB transfer curves (IEC 61966-2-1) have one home, `colour::cie`.
+use crate::colour::cie::{linear_to_srgb as srgb_encode, srgb_to_linear as srgb_decode};
 
 /// XYZ to linear sRGB (IEC 61966-2-1).
 const XYZ_TO_SRGB: [[f64; 3]; 3] = [

@@ -52,10 +52,7 @@ impl Site {
 }
 
 /// Day of year without leap years (`sun.c: jdate`); `month` 1-12, `day` 1-31.
-pub fn day_of_year(month: u32, day: u32) -> u32 {
-    const MONTH_START: [u32; 12] = [0, 31, 59, 90, 120, 151, 181, 212, 243, 273, 304, 334];
-    MONTH_START[(month.clamp(1, 12) - 1) as usize] + day
-}
+pub use rdaylight_base::calendar::julian_day as day_of_year;
 
 /// Solar declination in radians (`sun.c: sdec`, with the 2019 correction 368 -> 365).
 pub fn declination(jd: u32) -> f64 {
