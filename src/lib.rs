@@ -15,6 +15,30 @@
 //! Everything reads and writes Radiance's own formats so that any one tool can replace one
 //! stage of an existing Radiance pipeline. `docs/architecture.md` follows one ray from a
 //! `.rad` file to a matrix file, file by file.
+//!
+//! From a scene to one row of daylight coefficients with the typed API (what `rdc -I -m 1`
+//! computes per sensor; the tools are thin layers over these calls):
+//!
+//! ```
+//! use rdaylight::formats::sensors::Ray;
+//! use rdaylight::rdc::{Config, Sampling, Tracer};
+//! use rdaylight::scene::{self, LoadOptions};
+//!
+//! // A grey floor under the open sky.
+//! let text = "void plastic grey 0 0 5 .2 .2 .2 0 0\n\
+//!             grey polygon floor 0 0 12 -5 -5 0  5 -5 0  5 5 0  -5 5 0\n";
+//! let scene = scene::parse_str(text, "floor.rad", std::path::Path::new(""), &LoadOptions::default())?;
+//! // Sky coefficients over the 145 Tregenza patches and the ground (146 columns).
+//! let config = Config::sky_coefficients(1, Sampling { ab: 2, ad: 1024, ..Sampling::default() });
+//! let tracer = Tracer::new(&config, &scene)?;
+//! let row = &tracer.compute(&[Ray::new([0.0, 0.0, 0.8], [0.0, 0.0, 1.0])])?[0];
+//! assert_eq!(row.values.len(), 146 * 3);
+//! // Facing up under a sky of unit radiance, the sensor receives pi (W/m2 per W/sr/m2):
+//! // the coefficients of the sky patches (columns 1..146, red channel) sum to pi.
+//! let sky: f64 = (1..146).map(|p| row.values[p * 3]).sum();
+//! assert!((sky - std::f64::consts::PI).abs() < 1e-3 * std::f64::consts::PI, "{sky}");
+//! # Ok::<(), rdaylight::Error>(())
+//! ```
 
 pub mod cli;
 
