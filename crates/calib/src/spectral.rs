@@ -28,7 +28,7 @@ use self::channels::ChannelMap;
 use self::simulate::{SpectralSim, simulate};
 use super::measurements::Bound;
 use super::session::Options;
-use super::simulate::{StepSky, Tracer, step_skies, subset_wea};
+use super::simulate::{Simulator, StepSky, step_skies, subset_wea};
 use crate::error::{Error, Result};
 use crate::formats::sensors::Sensor;
 use crate::formats::weather::Weather;
@@ -122,14 +122,14 @@ pub fn simulate_scene(
     }
     let (idx, _) = measured_steps(readings);
     let skies = step_skies(weather, &idx, opts.settings.mf);
-    let tracer = Tracer::new(
+    let simulator = Simulator::new(
         opts.settings.clone(),
         opts.cache.clone(),
         sensors,
         subset_wea(weather, &idx),
         &skies,
     )?;
-    let sim = simulate(&tracer, scene, &skies, sensors.len(), ch)?;
+    let sim = simulate(&simulator, scene, &skies, sensors.len(), ch)?;
     Ok((sim, skies))
 }
 
