@@ -5,6 +5,7 @@
 //!
 //! | module | concept |
 //! |---|---|
+//! | [`csv`] | the one CSV reader of readings, spectral readings and response curves |
 //! | [`measurements`] | the long-form readings CSV (`month,day,hour,sensor,lux`) and its checks |
 //! | [`inputs`] | sensors from `.pts` or CSV with ids |
 //! | [`simulate`] | five-phase-style simulation of the measured steps through `rdc` coefficients |
@@ -35,6 +36,7 @@ pub mod apply;
 pub mod cache;
 pub mod cases;
 pub mod compare;
+pub mod csv;
 pub mod effects;
 pub mod explain;
 pub mod fit;
