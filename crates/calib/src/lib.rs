@@ -22,6 +22,7 @@
 //! | [`compare`] | per-sensor / per-step statistics and figure data |
 //! | [`svg`], [`report`] | inline-SVG figures, the HTML report, JSON and text summaries |
 //! | [`cases`] | hidden-effect test cases: truth rooms, climates, noisy readings |
+//! | [`run`] | the `rcalib` commands as typed configurations and one call each |
 //! | [`session`] | files -> model, shared by every command |
 //! | [`spectral`] | spectral readings (18-channel sensors): the seed's chapter-6 workflow, Table 6.4, the glazing tint (issue 8) |
 
@@ -45,6 +46,7 @@ pub mod measurements;
 pub mod model;
 pub mod report;
 pub mod room;
+pub mod run;
 pub mod score;
 pub mod session;
 pub mod simulate;
