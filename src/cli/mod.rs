@@ -9,6 +9,7 @@ pub mod glare;
 pub mod glare_annual;
 pub mod rcalib;
 pub mod rdc;
+pub mod rrecon;
 
 use crate::error::Error;
 use std::io::Write;
