@@ -10,6 +10,7 @@ pub mod glare_annual;
 pub mod rcalib;
 pub mod rdc;
 pub mod rrecon;
+pub mod ruplift;
 
 use crate::error::Error;
 use std::io::Write;
