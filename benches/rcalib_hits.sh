@@ -16,4 +16,4 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 time cargo test --release --test rcalib_hits hit_rate_table -- --ignored --nocapture 2>&1 \
-    | grep -E '^\||^hits'
+    | grep -E '^\||^hits|panicked|^test result'

@@ -61,5 +61,5 @@ pub mod formats {
 /// from pictures with its validation (`rdaylight-reflectance`).
 pub mod uplift {
     pub use rdaylight_physics::uplift::*;
-    pub use rdaylight_reflectance::{eval, kriging, mask, photo, plot, proxy};
+    pub use rdaylight_reflectance::{eval, kriging, mask, photo, plot, proxy, run};
 }

@@ -111,6 +111,22 @@ fn hit_rate_table() {
         }
     }
     println!("\nhits {hits}/{total}; hit and after <= 1.3 x noise: {passes}/{total}");
+    assert!(total > 0, "no case matched RCALIB_ONLY/ROOM/CLIMATE");
+    // The README's figures (57/60 found, 52/60 within 1.3x of the noise-only error) with a
+    // margin of two or three cases for Monte Carlo noise; only the full table (all 60
+    // cases at the default 30 steps) is held to them, a subset is a diagnostic.
+    let subset = only.is_some() || only_room.is_some() || only_climate.is_some();
+    if !subset && steps == 30 {
+        assert_eq!(total, 60, "the table has 3 rooms x 2 climates x 10 cases");
+        assert!(
+            hits >= 55,
+            "hidden effect found in {hits}/60; README: 57/60"
+        );
+        assert!(
+            passes >= 50,
+            "after apply within 1.3x of the noise in {passes}/60; README: 52/60"
+        );
+    }
 }
 
 /// How well the coefficient model reproduces the truth when given the hidden effect's true
@@ -137,6 +153,7 @@ fn fidelity_table() {
         "| room | climate | hidden | model vs truth RMSE_rel % | mean bias % | sun steps | other |"
     );
     println!("|---|---|---|---|---|---|---|");
+    let (mut worst, mut cases) = (0.0f64, 0);
     for kind in RoomKind::ALL {
         for climate in [Climate::London, Climate::Sunny] {
             if !keep(&only_room, kind.name()) || !keep(&only_climate, climate.name()) {
@@ -180,6 +197,8 @@ fn fidelity_table() {
                 let rms = |v: &[f64]| {
                     100.0 * (v.iter().map(|e| e * e).sum::<f64>() / v.len().max(1) as f64).sqrt()
                 };
+                worst = worst.max(rms(&all));
+                cases += 1;
                 println!(
                     "| {} | {} | {} | {:.1} | {:+.1} | {:.1} ({}) | {:.1} ({}) |",
                     kind.name(),
@@ -195,11 +214,20 @@ fn fidelity_table() {
             }
         }
     }
+    // With the hidden effect's true parameters the coefficient model must reproduce the
+    // converged truth to within the Monte Carlo error of the model's settings (README:
+    // 0.7-2.3 % RMS of converged runs) plus what the effect models approximate; 10 % in
+    // any case is a broken model, not noise.
+    assert!(cases > 0, "no case matched RCALIB_ONLY/ROOM/CLIMATE");
+    println!("\nworst model vs truth RMSE_rel: {worst:.1} % ({cases} cases)");
+    assert!(worst < 10.0, "model vs truth RMSE_rel up to {worst:.1} %");
 }
 
-/// Timings of `explain` on 20 sensors x 50 steps (the office with a 4 x 5 sensor grid,
-/// sunny site, hidden obstruction): building the model with its reflectance sensitivities
-/// from an empty cache (tracing), again from the cache, and the explain fits.
+/// `explain` on 20 sensors x 50 steps (the office with a 4 x 5 sensor grid, sunny site,
+/// hidden obstruction): building the model with its reflectance sensitivities from an empty
+/// cache (tracing), again from the cache, the explain fits and their refinement. Prints the
+/// timings (they depend on the machine, so nothing asserts them) and asserts the work done:
+/// every reading modelled, the cached model the traced one, the obstruction found.
 #[test]
 #[ignore]
 fn explain_timing_20_sensors_50_steps() {
@@ -261,6 +289,21 @@ fn explain_timing_20_sensors_50_steps() {
         })
         .unwrap();
     let refine = t3.elapsed().as_secs_f64();
+    assert_eq!((m.nsens(), m.nsteps()), (20, case.readings.len() / 20));
+    assert_eq!(m.obs.len(), case.readings.len());
+    assert!(m.nsteps() > 0 && m.nsteps() <= 50, "{} steps", m.nsteps());
+    let (p1, p2) = (m.predict(&[]), m2.predict(&[]));
+    assert!(
+        p1.iter()
+            .zip(&p2)
+            .all(|(a, b)| (a - b).abs() <= 1e-9 * a.abs().max(1.0)),
+        "the cached model differs from the traced one"
+    );
+    assert!(
+        ex.specs.iter().any(|s| s.starts_with("obstruction")),
+        "hidden obstruction not selected: {:?}",
+        ex.specs
+    );
     println!(
         "timing: {} sensors x {} steps ({} readings): model build {cold:.1} s from an empty \
          cache, {warm:.1} s cached; explain fits {fit:.1} s; {REFINE_ROUNDS} refinement \

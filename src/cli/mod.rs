@@ -7,7 +7,10 @@
 
 pub mod glare;
 pub mod glare_annual;
+pub mod rcalib;
 pub mod rdc;
+pub mod rrecon;
+pub mod ruplift;
 
 use crate::error::Error;
 use std::io::Write;

@@ -317,7 +317,8 @@ pub struct Case {
     pub hidden: Vec<Effect>,
 }
 
-fn scene_of(text: &str) -> Result<Scene> {
+/// Parse a case's scene text.
+pub fn scene_of(text: &str) -> Result<Scene> {
     parse_str(
         text,
         "<case>",
@@ -363,6 +364,101 @@ pub fn generate(
     )
 }
 
+/// What the photopic ([`generate_with_sensors`]) and spectral
+/// ([`crate::spectral::case::generate`]) case builders share: the truth scene (the model
+/// with the hidden effects written by [`super::apply`]; sensor faults are no geometry), the
+/// measured steps, the truth settings and the seeded sensor noise. The builders differ
+/// only in how they simulate the readings (photopic illuminance with the sensor faults
+/// applied, or N bands with per-channel noise).
+pub struct Truth {
+    pub model_text: String,
+    pub truth_text: String,
+    pub truth_scene: Scene,
+    /// Measured weather steps.
+    pub steps: Vec<usize>,
+    /// Options of the truth simulation.
+    pub opts: Options,
+}
+
+impl Truth {
+    /// The truth of `model_text` with `hidden` effects at `nsteps` steps of `weather`.
+    #[allow(clippy::too_many_arguments)]
+    pub fn new(
+        model_text: &str,
+        sensors: &[Sensor],
+        weather: &Weather,
+        hidden: &[Effect],
+        nsteps: usize,
+        seed: u64,
+        truth: &Settings,
+        cache: Option<std::path::PathBuf>,
+    ) -> Result<Truth> {
+        let model = scene_of(model_text)?;
+        let room = room_of(&model, sensors);
+        let geometric: Vec<Effect> = hidden
+            .iter()
+            .filter(|e| !matches!(e, Effect::SensorFault { .. }))
+            .cloned()
+            .collect();
+        let truth_text = super::apply::apply(&model, &room, sensors, &geometric, "hidden effect")?;
+        Ok(Truth {
+            model_text: model_text.to_string(),
+            truth_scene: scene_of(&truth_text)?,
+            truth_text,
+            steps: pick_steps(weather, nsteps, seed),
+            opts: Options {
+                settings: truth.clone(),
+                cache,
+                ..Options::default()
+            },
+        })
+    }
+
+    /// One reading per measured step and sensor (step-major), each with `value`.
+    pub fn bound(&self, nsensors: usize, value: f64) -> Vec<Bound> {
+        self.steps
+            .iter()
+            .flat_map(|&t| {
+                (0..nsensors).map(move |s| Bound {
+                    sensor: s,
+                    step: t,
+                    value,
+                })
+            })
+            .collect()
+    }
+}
+
+/// The seeded sensor noise of a case (see the module doc): a calibration factor per sensor
+/// drawn first, then the per-reading factors in reading order.
+pub struct Noise {
+    rng: rand_pcg::Pcg64,
+    cal: Vec<f64>,
+}
+
+impl Noise {
+    pub fn new(seed: u64, nsensors: usize) -> Noise {
+        let mut rng = rand_pcg::Pcg64::seed_from_u64(seed);
+        let cal = (0..nsensors)
+            .map(|_| (SENSOR_SIGMA * normal(&mut rng)).exp())
+            .collect();
+        Noise { rng, cal }
+    }
+
+    /// The next reading's factors for `sensor`: (calibration, per-reading).
+    pub fn reading(&mut self, sensor: usize) -> (f64, f64) {
+        (
+            self.cal[sensor],
+            (READING_SIGMA * normal(&mut self.rng)).exp(),
+        )
+    }
+
+    /// The next log-normal factor of spread `sigma` (e.g. a spectral channel's noise).
+    pub fn factor(&mut self, sigma: f64) -> f64 {
+        (sigma * normal(&mut self.rng)).exp()
+    }
+}
+
 /// [`generate`] for a given model text and sensors (e.g. a denser grid than the room's).
 #[allow(clippy::too_many_arguments)]
 pub fn generate_with_sensors(
@@ -376,33 +472,11 @@ pub fn generate_with_sensors(
     truth: &Settings,
     cache: Option<std::path::PathBuf>,
 ) -> Result<Case> {
-    let model_text = model_text.to_string();
-    let model = scene_of(&model_text)?;
-    let room = room_of(&model, &sensors);
-    let geometric: Vec<Effect> = hidden
-        .iter()
-        .filter(|e| !matches!(e, Effect::SensorFault { .. }))
-        .cloned()
-        .collect();
-    let truth_text = super::apply::apply(&model, &room, &sensors, &geometric, "hidden effect")?;
-    let truth_scene = scene_of(&truth_text)?;
-    let steps = pick_steps(&weather, nsteps, seed);
-    let dummy: Vec<Bound> = steps
-        .iter()
-        .flat_map(|&t| {
-            (0..sensors.len()).map(move |s| Bound {
-                sensor: s,
-                step: t,
-                value: 1.0,
-            })
-        })
-        .collect();
-    let opts = Options {
-        settings: truth.clone(),
-        cache,
-        ..Options::default()
-    };
-    let tm = session::build(&truth_scene, sensors.clone(), &weather, &dummy, &opts)?;
+    let t = Truth::new(
+        model_text, &sensors, &weather, &hidden, nsteps, seed, truth, cache,
+    )?;
+    let dummy = t.bound(sensors.len(), 1.0);
+    let tm = session::build(&t.truth_scene, sensors.clone(), &weather, &dummy, &t.opts)?;
     let mut values = tm.predict(&[]);
     for e in &hidden {
         if let Effect::SensorFault { factors } = e {
@@ -413,22 +487,22 @@ pub fn generate_with_sensors(
             }
         }
     }
-    let mut rng = rand_pcg::Pcg64::seed_from_u64(seed);
-    let cal: Vec<f64> = (0..sensors.len())
-        .map(|_| (SENSOR_SIGMA * normal(&mut rng)).exp())
-        .collect();
+    let mut noise = Noise::new(seed, sensors.len());
     let readings: Vec<Bound> = dummy
         .iter()
         .zip(&values)
-        .map(|(b, v)| Bound {
-            value: v * cal[b.sensor] * (READING_SIGMA * normal(&mut rng)).exp(),
-            ..*b
+        .map(|(b, v)| {
+            let (cal, reading) = noise.reading(b.sensor);
+            Bound {
+                value: v * cal * reading,
+                ..*b
+            }
         })
         .collect();
     Ok(Case {
         name: name.to_string(),
-        model_text,
-        truth_text,
+        model_text: t.model_text,
+        truth_text: t.truth_text,
         sensors,
         weather,
         readings,

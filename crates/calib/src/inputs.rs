@@ -12,8 +12,7 @@ use crate::formats::sensors::{RayFormat, Sensor, read_csv, read_rays};
 
 /// Read sensors from a `.pts` or CSV file (see the module doc).
 pub fn load_sensors(path: &str) -> Result<Vec<Sensor>> {
-    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
-    let text = String::from_utf8_lossy(&bytes);
+    let text = crate::csv::read_text(path)?;
     let first = text.lines().find(|l| !l.trim().is_empty()).unwrap_or("");
     if first.trim_start().to_ascii_lowercase().starts_with("id") {
         return read_csv(&text, path);

@@ -5,6 +5,7 @@
 //!
 //! | module | concept |
 //! |---|---|
+//! | [`csv`] | the one CSV reader of readings, spectral readings and response curves |
 //! | [`measurements`] | the long-form readings CSV (`month,day,hour,sensor,lux`) and its checks |
 //! | [`inputs`] | sensors from `.pts` or CSV with ids |
 //! | [`simulate`] | five-phase-style simulation of the measured steps through `rdc` coefficients |
@@ -21,6 +22,7 @@
 //! | [`compare`] | per-sensor / per-step statistics and figure data |
 //! | [`svg`], [`report`] | inline-SVG figures, the HTML report, JSON and text summaries |
 //! | [`cases`] | hidden-effect test cases: truth rooms, climates, noisy readings |
+//! | [`run`] | the `rcalib` commands as typed configurations and one call each |
 //! | [`session`] | files -> model, shared by every command |
 //! | [`spectral`] | spectral readings (18-channel sensors): the seed's chapter-6 workflow, Table 6.4, the glazing tint (issue 8) |
 
@@ -35,6 +37,7 @@ pub mod apply;
 pub mod cache;
 pub mod cases;
 pub mod compare;
+pub mod csv;
 pub mod effects;
 pub mod explain;
 pub mod fit;
@@ -43,6 +46,7 @@ pub mod measurements;
 pub mod model;
 pub mod report;
 pub mod room;
+pub mod run;
 pub mod score;
 pub mod session;
 pub mod simulate;

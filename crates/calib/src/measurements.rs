@@ -16,12 +16,8 @@
 //! steps (unknown ids, time stamps not in the weather file, negative or missing values),
 //! again with the CSV line.
 
+use crate::csv::{self, shorten};
 use crate::error::{Error, Location, Result};
-use nom::Parser;
-use nom::bytes::complete::take_while;
-use nom::character::complete::{char, space0};
-use nom::multi::separated_list1;
-use nom::sequence::delimited;
 
 /// The column names the header must give (the last may be `lux` or `value`).
 pub const HEADER: [&str; 5] = ["month", "day", "hour", "sensor", "lux"];
@@ -57,27 +53,6 @@ pub struct Bound {
     pub value: f64,
 }
 
-/// Comma-separated fields of a line, trimmed (also used by the spectral readings).
-pub(crate) fn fields(line: &str) -> Vec<&str> {
-    let r: nom::IResult<&str, Vec<&str>> = separated_list1(
-        char(','),
-        delimited(space0, take_while(|c: char| c != ','), space0),
-    )
-    .parse(line);
-    r.map(|(_, f)| f.into_iter().map(str::trim).collect())
-        .unwrap_or_default()
-}
-
-/// A finite number filling the whole word.
-pub(crate) fn number(word: &str) -> Option<f64> {
-    let r: nom::IResult<&str, f64> =
-        nom::combinator::all_consuming(nom::number::complete::double).parse(word);
-    match r {
-        Ok((_, v)) if v.is_finite() => Some(v),
-        _ => None,
-    }
-}
-
 /// Check a reading's month (1-12), day (1-31) and decimal hour (0-24).
 pub(crate) fn check_stamp(
     month: f64,
@@ -103,99 +78,57 @@ pub(crate) fn check_stamp(
     Ok(())
 }
 
-/// At most 40 characters of `s` for messages.
-pub(crate) fn shorten(s: &str) -> String {
-    if s.chars().count() > 40 {
-        format!("{}...", s.chars().take(37).collect::<String>())
-    } else {
-        s.to_string()
-    }
-}
-
 impl Measurements {
     /// Read a measurement file from disk.
     pub fn read_path(path: &str) -> Result<Measurements> {
-        let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
-        Measurements::parse(&String::from_utf8_lossy(&bytes), path)
+        Measurements::parse(&csv::read_text(path)?, path)
     }
 
     /// Parse CSV text named `file` (for messages).
     pub fn parse(text: &str, file: &str) -> Result<Measurements> {
-        let mut readings = Vec::new();
-        let mut header = false;
-        for (i, raw) in text.lines().enumerate() {
-            let lno = i + 1;
-            let at = || Location::line(file, lno);
-            let line = raw.trim();
-            if line.is_empty() || line.starts_with('#') {
-                continue;
+        let header = |l: &csv::Line| {
+            let f = &l.fields;
+            let ok = f.len() == 5
+                && f.iter().zip(HEADER).enumerate().all(|(k, (a, b))| {
+                    a.eq_ignore_ascii_case(b) || (k == 4 && a.eq_ignore_ascii_case("value"))
+                });
+            if !ok {
+                return Err(l.error(format!(
+                    "expected the header 'month,day,hour,sensor,lux', found '{}'",
+                    shorten(l.text)
+                )));
             }
-            let f = fields(line);
-            if !header {
-                let ok = f.len() == 5
-                    && f.iter().zip(HEADER).enumerate().all(|(k, (a, b))| {
-                        a.eq_ignore_ascii_case(b) || (k == 4 && a.eq_ignore_ascii_case("value"))
-                    });
-                if !ok {
-                    return Err(Error::parse(
-                        at(),
-                        format!(
-                            "expected the header 'month,day,hour,sensor,lux', found '{}'",
-                            shorten(line)
-                        ),
-                    ));
-                }
-                header = true;
-                continue;
-            }
+            Ok(())
+        };
+        let row = |_: &mut (), l: &csv::Line| {
+            let f = &l.fields;
             if f.len() != 5 {
-                return Err(Error::parse(
-                    at(),
-                    format!(
-                        "expected 5 fields (month,day,hour,sensor,lux), found {}",
-                        f.len()
-                    ),
-                ));
+                return Err(l.error(format!(
+                    "expected 5 fields (month,day,hour,sensor,lux), found {}",
+                    f.len()
+                )));
             }
-            let num = |k: usize| {
-                number(f[k]).ok_or_else(|| {
-                    let what = if f[k].is_empty() {
-                        "a missing value".to_string()
-                    } else {
-                        format!("'{}'", shorten(f[k]))
-                    };
-                    Error::parse(
-                        at(),
-                        format!("expected a number for {}, found {what}", HEADER[k]),
-                    )
-                })
-            };
+            let num = |k: usize| l.number(k, &format!("for {}", HEADER[k]));
             let (month, day, hour, value) = (num(0)?, num(1)?, num(2)?, num(4)?);
-            check_stamp(month, day, hour, &at)?;
+            check_stamp(month, day, hour, &|| l.at())?;
             if value < 0.0 {
-                return Err(Error::parse(
-                    at(),
-                    format!("negative illuminance {value} lx; expected a value >= 0"),
-                ));
+                return Err(l.error(format!(
+                    "negative illuminance {value} lx; expected a value >= 0"
+                )));
             }
             if f[3].is_empty() {
-                return Err(Error::parse(at(), "empty sensor id"));
+                return Err(l.error("empty sensor id"));
             }
-            readings.push(Reading {
+            Ok(Reading {
                 month: month as u32,
                 day: day as u32,
                 hour,
                 sensor: f[3].to_string(),
                 value,
-                line: lno,
-            });
-        }
-        if !header {
-            return Err(Error::parse(
-                Location::line(file, 1),
-                "expected the header 'month,day,hour,sensor,lux', found an empty file",
-            ));
-        }
+                line: l.no,
+            })
+        };
+        let ((), _, readings) = csv::read(text, file, "month,day,hour,sensor,lux", header, row)?;
         if readings.is_empty() {
             return Err(Error::parse(
                 Location::file(file),

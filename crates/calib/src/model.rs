@@ -12,7 +12,7 @@
 use super::effects::{self, Effect};
 use super::measurements::Bound;
 use super::room::{Room, SurfaceClass};
-use super::simulate::{Components, Dcs, StepSky, Tracer};
+use super::simulate::{Components, Dcs, Simulator, StepSky};
 use crate::error::Result;
 use crate::formats::sensors::Sensor;
 use crate::scene::Scene;
@@ -90,7 +90,7 @@ impl Model {
     /// come from one re-weighted run (cached).
     #[allow(clippy::too_many_arguments)]
     pub fn build(
-        tracer: &Tracer,
+        simulator: &Simulator,
         scene: &Scene,
         room: Room,
         sensors: Vec<Sensor>,
@@ -108,12 +108,12 @@ impl Model {
             // that run's own (unscaled) coefficients, so the differences come from one set
             // of paths even where the cached `total` was traced by another tracer version.
             let (scaled, _none) =
-                tracer.dc_scaled(scene, &room, &classes, &[1.0 - DELTA, 1.0, 1.0 + DELTA])?;
+                simulator.dc_scaled(scene, &room, &classes, &[1.0 - DELTA, 1.0, 1.0 + DELTA])?;
             // The inter-reflected sun: the sun paths re-weighted the same way (one run for
             // every class), so its sensitivities are as free of Monte Carlo noise as the
             // sky's.
             let (sun_scaled, _) =
-                tracer.sun_scaled(scene, &room, &classes, &[1.0 - DELTA, 1.0, 1.0 + DELTA])?;
+                simulator.sun_scaled(scene, &room, &classes, &[1.0 - DELTA, 1.0, 1.0 + DELTA])?;
             for ((&class, v), vs) in classes.iter().zip(scaled).zip(sun_scaled) {
                 let [lo, mid, hi]: [Vec<f64>; 3] = v.try_into().map_err(|_| {
                     crate::error::Error::Mismatch("re-weighting: three variants expected".into())

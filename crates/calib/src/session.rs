@@ -9,7 +9,7 @@ use super::inputs::load_sensors;
 use super::measurements::{Bound, Measurements};
 use super::model::Model;
 use super::room::{Room, SurfaceClass, sensor_centroid};
-use super::simulate::{Settings, Tracer, step_skies, subset_wea};
+use super::simulate::{Settings, Simulator, step_skies, subset_wea};
 use crate::error::{Error, Result};
 use crate::formats::sensors::Sensor;
 use crate::formats::weather::Weather;
@@ -59,17 +59,17 @@ pub fn build(
         })
         .collect();
     let skies = step_skies(weather, &idx, opts.settings.mf);
-    let tracer = Tracer::new(
+    let simulator = Simulator::new(
         opts.settings.clone(),
         opts.cache.clone(),
         &sensors,
         subset_wea(weather, &idx),
         &skies,
     )?;
-    let dcs = tracer.dcs(scene)?;
+    let dcs = simulator.dcs(scene)?;
     let room = Room::new(scene, sensor_centroid(&sensors), &opts.classes);
     Model::build(
-        &tracer,
+        &simulator,
         scene,
         room,
         sensors,

@@ -30,7 +30,7 @@
 //! them; bounces end by Russian roulette rather than at a small `-ab`. Against converged
 //! runs the model's values are within 1-2 % RMS (10 m deep room), below the 3-4 % of
 //! real sensors. Reflectance variants of both the sky coefficients and `Vsun` come from one
-//! re-weighted run each ([`Tracer::dc_scaled`], [`Tracer::sun_scaled`]).
+//! re-weighted run each ([`Simulator::dc_scaled`], [`Simulator::sun_scaled`]).
 //!
 //! Coefficients are cached on disk ([`super::cache`]): a re-run traces nothing.
 
@@ -282,8 +282,9 @@ impl Kind {
     }
 }
 
-/// Runs the tracer (in memory, through [`crate::rdc::Tracer`]) with a disk cache.
-pub struct Tracer {
+/// Simulates the measured steps: runs the tracer (in memory, through [`crate::rdc::Tracer`])
+/// with a disk cache. (Named apart from `rdc::Tracer`, which it drives.)
+pub struct Simulator {
     pub settings: Settings,
     pub cache: Option<PathBuf>,
     /// Where scene texts are written for tracing (the cache, or a private temp dir).
@@ -296,7 +297,7 @@ pub struct Tracer {
     nsteps: usize,
 }
 
-impl Drop for Tracer {
+impl Drop for Simulator {
     fn drop(&mut self) {
         if self.own_work {
             let _ = std::fs::remove_dir_all(&self.work);
@@ -304,14 +305,14 @@ impl Drop for Tracer {
     }
 }
 
-impl Tracer {
+impl Simulator {
     pub fn new(
         settings: Settings,
         cache: Option<PathBuf>,
         sensors: &[Sensor],
         suns_wea: String,
         skies: &[StepSky],
-    ) -> Result<Tracer> {
+    ) -> Result<Simulator> {
         let nsteps = skies.len();
         let (work, own_work) = match &cache {
             Some(c) => (c.clone(), false),
@@ -325,7 +326,7 @@ impl Tracer {
             .iter()
             .map(|s| format!("{:?} {:?}\n", s.ray.org, s.ray.dir))
             .collect();
-        Ok(Tracer {
+        Ok(Simulator {
             settings,
             cache,
             work,
@@ -342,7 +343,7 @@ impl Tracer {
         self.run_with(&self.settings, scene_text, kind)
     }
 
-    /// [`Tracer::run`] with other sampling settings.
+    /// [`Simulator::run`] with other sampling settings.
     fn run_with(&self, settings: &Settings, scene_text: &str, kind: &Kind) -> Result<Vec<f64>> {
         let settings_key = format!("{settings:?}");
         let kinds = kind.key(settings.mf);
@@ -440,7 +441,7 @@ impl Tracer {
         })
     }
 
-    /// `Vsun` of a scene (see [`Tracer::sun_total`]), `[s][t][c]`.
+    /// `Vsun` of a scene (see [`Simulator::sun_total`]), `[s][t][c]`.
     pub fn sun_total_of(&self, scene: &Scene) -> Result<Vec<f64>> {
         self.sun_total(&scene.to_string())
     }
@@ -483,8 +484,8 @@ impl Tracer {
         self.scaled_runs(scene, room, classes, ks, &kind, ncols)
     }
 
-    /// `Vsun` ([`Tracer::sun_total`]) with class reflectances scaled, as
-    /// [`Tracer::dc_scaled`] does for the sky: one re-weighted run of the sun paths.
+    /// `Vsun` ([`Simulator::sun_total`]) with class reflectances scaled, as
+    /// [`Simulator::dc_scaled`] does for the sky: one re-weighted run of the sun paths.
     pub fn sun_scaled(
         &self,
         scene: &Scene,

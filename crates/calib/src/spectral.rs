@@ -28,7 +28,7 @@ use self::channels::ChannelMap;
 use self::simulate::{SpectralSim, simulate};
 use super::measurements::Bound;
 use super::session::Options;
-use super::simulate::{StepSky, Tracer, step_skies, subset_wea};
+use super::simulate::{Simulator, StepSky, step_skies, subset_wea};
 use crate::error::{Error, Result};
 use crate::formats::sensors::Sensor;
 use crate::formats::weather::Weather;
@@ -122,14 +122,14 @@ pub fn simulate_scene(
     }
     let (idx, _) = measured_steps(readings);
     let skies = step_skies(weather, &idx, opts.settings.mf);
-    let tracer = Tracer::new(
+    let simulator = Simulator::new(
         opts.settings.clone(),
         opts.cache.clone(),
         sensors,
         subset_wea(weather, &idx),
         &skies,
     )?;
-    let sim = simulate(&tracer, scene, &skies, sensors.len(), ch)?;
+    let sim = simulate(&simulator, scene, &skies, sensors.len(), ch)?;
     Ok((sim, skies))
 }
 
@@ -149,18 +149,14 @@ pub fn glass_transmittance(scene: &Scene, ch: &Channels) -> Vec<f64> {
         index,
     } = &scene.objects[gi].kind
     {
-        let tn = transmissivity.iter().sum::<f64>() / transmissivity.len().max(1) as f64;
-        let g = crate::material::glass::Glass::new(
-            crate::material::Color::splat(1, tn.clamp(0.0, 1.0)),
-            index.unwrap_or(1.52),
-        );
-        let t0 = f64::from(
-            g.coefficients(1.0)
-                .0
-                .as_slice()
-                .first()
-                .copied()
-                .unwrap_or(1.0),
+        // One level for every band (a neutral stand-in for the glass, which the scan's
+        // options and the VLT column scale): the glass's luminous normal transmittance, as
+        // glazing transmittances are quoted (was the mean of the channels; identical for
+        // the neutral glass of every tested case).
+        let t0 = crate::effects::transmittance::normal_transmittance(
+            transmissivity,
+            *index,
+            crate::effects::transmittance::Summary::Luminous,
         );
         tau.iter_mut().for_each(|t| *t = t0);
     }

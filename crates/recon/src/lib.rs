@@ -37,6 +37,7 @@
 //! | [`radout`] | polygons -> `.rad` with the seed's default materials (or a materials file) |
 //! | [`review`] | SVG per wall with numbered candidates for `--windows` |
 //! | [`rooms`] | the known test rooms (rect, L, slanted, arched, cluttered) |
+//! | [`run`] | the `rrecon` commands as typed configurations and one call each |
 //! | [`shell`] | watertight shell: inside/outside cells by exact min cut, facets merged per plane |
 //! | [`simulate`] | laser scanner simulator (stations, resolution, range noise, glass) |
 //! | [`openings`] | window candidates (Delaunay holes), ranking, regularised outlines |
@@ -64,6 +65,7 @@ pub mod radout;
 pub mod ransac;
 pub mod review;
 pub mod rooms;
+pub mod run;
 pub mod shell;
 pub mod simulate;
 pub mod summary;

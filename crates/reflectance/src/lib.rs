@@ -9,6 +9,7 @@
 //!   points of known reflectance, with ordinary [`kriging`] of the illuminance;
 //! - [`eval`]: the validation of the uplifting methods on held-out measured spectra
 //!   (`docs/uplift-validation.md`), and [`plot`], its per-wavelength error plot.
+//! - [`run`]: `ruplift photo`, `proxy` and `validate` as typed configurations and calls.
 
 use rdaylight_base::{Result, colour, error, radiometry};
 use rdaylight_formats as formats;
@@ -20,3 +21,4 @@ pub mod mask;
 pub mod photo;
 pub mod plot;
 pub mod proxy;
+pub mod run;

@@ -184,18 +184,12 @@ pub fn tinted_scene(scene: &Scene, scale: f64, slope: f64, curvature: f64) -> Re
             index,
         } = &o.kind
         {
-            let tn = transmissivity.iter().copied().fold(0.0, f64::max);
-            let g = crate::material::glass::Glass::new(
-                crate::material::Color::splat(1, tn.clamp(0.0, 1.0)),
-                index.unwrap_or(1.52),
-            );
-            let t0 = f64::from(
-                g.coefficients(1.0)
-                    .0
-                    .as_slice()
-                    .first()
-                    .copied()
-                    .unwrap_or(1.0),
+            // The cap is a bound: the most transmissive channel must stay <= 1 (the pattern
+            // multiplies every channel), hence `Max`, not the luminous figure.
+            let t0 = super::transmittance::normal_transmittance(
+                transmissivity,
+                *index,
+                super::transmittance::Summary::Max,
             );
             let cap = if t0 > 0.0 { 1.0 / t0 } else { 1.0 };
             let id = format!("rcalib_tint_{k}");

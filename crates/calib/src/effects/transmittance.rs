@@ -28,6 +28,38 @@ fn transmission(tn: f64, index: f64, cos: f64) -> f64 {
     )
 }
 
+/// How the per-channel normal transmittances of a coloured glass become one figure: each
+/// use needs its own, so the choice is the caller's, written where it is used.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Summary {
+    /// The luminous (photopic) value `w . T` with Radiance's RGB weights
+    /// ([`crate::radiometry::photopic`]): how a glazing's normal transmittance (its visible
+    /// light transmittance) is quoted, and the level a neutral stand-in for the glass must
+    /// have. The mean of the channels when there are not three.
+    Luminous,
+    /// The most transmissive channel: a bound (a factor capped at `1 / T` keeps every
+    /// channel's transmission at or below 1).
+    Max,
+}
+
+/// Normal-incidence transmittance of a Radiance `glass` from its arguments, the per-channel
+/// *transmissivities* `tn` (`glass.c`: one pass transmits `tn`, Fresnel reflections at both
+/// faces and the inter-reflections between them; 0.96 gives the usual 0.88), summarised by
+/// `summary`. Each channel goes through the glass first and is summarised after, so a
+/// coloured glass's luminous transmittance is the weighted transmittance, not the
+/// transmittance of a weighted transmissivity.
+pub fn normal_transmittance(transmissivity: &[f64], index: Option<f64>, summary: Summary) -> f64 {
+    let t: Vec<f64> = transmissivity
+        .iter()
+        .map(|&tn| transmission(tn, index.unwrap_or(1.52), 1.0))
+        .collect();
+    match (summary, t.as_slice()) {
+        (Summary::Max, _) => t.iter().copied().fold(0.0, f64::max),
+        (Summary::Luminous, &[r, g, b]) => crate::radiometry::photopic([r, g, b]),
+        (Summary::Luminous, _) => t.iter().sum::<f64>() / t.len().max(1) as f64,
+    }
+}
+
 /// Relative change of the light arriving from direction `d` through the room's windows
 /// when the transmissivity is scaled by `k`.
 pub fn ratio(room: &Room, k: f64, d: [f64; 3]) -> f64 {
@@ -79,4 +111,32 @@ pub fn fit(f: &Fitter, base: &[Effect]) -> Option<Effect> {
         40,
     );
     Some(Effect::Transmittance { scale: x.exp() })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Pins the one home of a glass's normal transmittance: transmissivity 0.96 is the
+    /// usual 0.88 (Radiance reference manual, `glass`: transmissivity = 1.0895 x
+    /// transmittance at n = 1.52, so 0.96 / 1.0895 = 0.881); a neutral glass has the same figure
+    /// either way; a coloured one is summarised by its luminous value (photopic weights of
+    /// the per-channel transmittances) or bounded by its most transmissive channel.
+    #[test]
+    fn normal_transmittance_of_neutral_and_coloured_glass() {
+        let neutral = normal_transmittance(&[0.96; 3], None, Summary::Luminous);
+        assert!((neutral - 0.96 / 1.0895).abs() < 1e-3, "{neutral}");
+        let max = normal_transmittance(&[0.96; 3], None, Summary::Max);
+        assert!((neutral - max).abs() < 1e-12, "{neutral} {max}");
+        let c = [0.9, 0.6, 0.3];
+        let t: Vec<f64> = c.iter().map(|&tn| transmission(tn, 1.52, 1.0)).collect();
+        let lum = normal_transmittance(&c, None, Summary::Luminous);
+        let w = crate::radiometry::RGB_PHOTOPIC;
+        assert!((lum - (w[0] * t[0] + w[1] * t[1] + w[2] * t[2])).abs() < 1e-12);
+        assert!((normal_transmittance(&c, None, Summary::Max) - t[0]).abs() < 1e-12);
+        // Not the mean of the channels (what spectral.rs took before: a coloured glass's
+        // quoted transmittance weighs green most).
+        let mean = (t[0] + t[1] + t[2]) / 3.0;
+        assert!((lum - mean).abs() > 0.02, "{lum} {mean}");
+    }
 }

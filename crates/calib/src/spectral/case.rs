@@ -13,17 +13,15 @@
 use super::channels::ChannelMap;
 use super::readings::{SpectralReading, SpectralReadings};
 use super::{SpectralModel, band_centres, simulate_scene};
-use crate::cases::{READING_SIGMA, RoomKind, SENSOR_SIGMA, pick_steps, room, room_of};
+use crate::cases::{Noise, RoomKind, Truth, room};
 use crate::effects::Effect;
 use crate::error::Result;
 use crate::formats::sensors::Sensor;
 use crate::formats::weather::Weather;
 use crate::measurements::Bound;
 use crate::radiometry::Channels;
-use crate::scene::{LoadOptions, Scene, parse_str};
 use crate::session::Options;
 use crate::simulate::Settings;
-use rand::{Rng, SeedableRng};
 
 /// Independent per-channel noise (relative, log-normal).
 pub const CHANNEL_SIGMA: f64 = 0.01;
@@ -43,20 +41,7 @@ pub struct SpectralCase {
     pub hidden: Vec<Effect>,
 }
 
-/// Parse a case's scene text.
-pub fn scene_of(text: &str) -> Result<Scene> {
-    parse_str(
-        text,
-        "<case>",
-        std::path::Path::new(""),
-        &LoadOptions::default(),
-    )
-}
-
-fn normal(rng: &mut rand_pcg::Pcg64) -> f64 {
-    let (u, v): (f64, f64) = (rng.random::<f64>().max(1e-12), rng.random());
-    (-2.0 * u.ln()).sqrt() * (2.0 * std::f64::consts::PI * v).cos()
-}
+pub use crate::cases::scene_of;
 
 /// A control sensor as the seed's: inside the first window, 0.25 m from the glass at the
 /// window's mid height (at most 1.65 m), facing out (vertical illuminance, mostly the sky
@@ -101,49 +86,42 @@ pub fn generate(
     ch: &Channels,
 ) -> Result<SpectralCase> {
     let (model_text, _) = room(kind);
-    let model = scene_of(&model_text)?;
-    let r = room_of(&model, &sensors);
-    let truth_text = crate::apply::apply(&model, &r, &sensors, &hidden, "hidden effect")?;
-    let truth_scene = scene_of(&truth_text)?;
-    let steps = pick_steps(&weather, nsteps, seed);
-    let bound: Vec<Bound> = steps
-        .iter()
-        .flat_map(|&t| {
-            (0..sensors.len()).map(move |s| Bound {
-                sensor: s,
-                step: t,
-                value: 0.0,
-            })
-        })
-        .collect();
-    let opts = Options {
-        settings: truth.clone(),
+    let t = Truth::new(
+        &model_text,
+        &sensors,
+        &weather,
+        &hidden,
+        nsteps,
+        seed,
+        truth,
         cache,
-        ..Options::default()
-    };
-    let (sim, _) = simulate_scene(&truth_scene, &sensors, &weather, &bound, &opts, ch)?;
+    )?;
+    let bound = t.bound(sensors.len(), 0.0);
+    let (sim, _) = simulate_scene(&t.truth_scene, &sensors, &weather, &bound, &t.opts, ch)?;
     let names = channel_names(ch);
-    let mut rng = rand_pcg::Pcg64::seed_from_u64(seed);
-    let cal: Vec<f64> = (0..sensors.len())
-        .map(|_| (SENSOR_SIGMA * normal(&mut rng)).exp())
-        .collect();
+    // Sensor faults do not reach spectral readings (they never did; kept so that existing
+    // spectral cases reproduce: the photopic builder applies them).
+    let mut noise = Noise::new(seed, sensors.len());
     let (_, local) = super::measured_steps(&bound);
     let values = local
         .iter()
         .map(|b| {
             let v = sim.at(b.sensor, b.step);
-            let k = cal[b.sensor] * (READING_SIGMA * normal(&mut rng)).exp();
+            let (cal, reading) = noise.reading(b.sensor);
+            let k = cal * reading;
             names
                 .iter()
                 .map(|(band, _)| {
                     v.get(*band).copied().unwrap_or(0.0)
                         / crate::metrics::melanopic::RADIANCE_SPAN_NM
                         * k
-                        * (CHANNEL_SIGMA * normal(&mut rng)).exp()
+                        * noise.factor(CHANNEL_SIGMA)
                 })
                 .collect()
         })
         .collect();
+    let model_text = t.model_text;
+    let truth_text = t.truth_text;
     Ok(SpectralCase {
         name: name.to_string(),
         model_text,

@@ -27,8 +27,8 @@
 use super::readings::SpectralReadings;
 use crate::colour::bands::band_integrals;
 use crate::colour::cie::tables;
+use crate::csv::{self, shorten};
 use crate::error::{Error, Location, Result};
-use crate::measurements::{fields, number, shorten};
 use crate::radiometry::Channels;
 
 /// Largest share of a response curve's area allowed outside the simulated range.
@@ -62,107 +62,75 @@ pub struct Responses {
 
 impl Responses {
     pub fn read_path(path: &str) -> Result<Responses> {
-        let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
-        Responses::parse(&String::from_utf8_lossy(&bytes), path)
+        Responses::parse(&csv::read_text(path)?, path)
     }
 
     /// Parse `wavelength,<name>,...` rows of numbers.
     pub fn parse(text: &str, file: &str) -> Result<Responses> {
-        let mut out: Option<Responses> = None;
-        for (i, raw) in text.lines().enumerate() {
-            let lno = i + 1;
-            let at = || Location::line(file, lno);
-            let line = raw.trim();
-            if line.is_empty() || line.starts_with('#') {
-                continue;
+        let header = |l: &csv::Line| {
+            let f = &l.fields;
+            let ok = f.len() >= 2
+                && f.first().is_some_and(|w| {
+                    w.eq_ignore_ascii_case("wavelength") || w.eq_ignore_ascii_case("nm")
+                })
+                && f[1..].iter().all(|n| !n.is_empty());
+            if !ok {
+                return Err(l.error(format!(
+                    "expected the header 'wavelength,<channel>,...' (channel names as \
+                     in the measurements), found '{}'",
+                    shorten(l.text)
+                )));
             }
-            let f = fields(line);
-            let Some(r) = &mut out else {
-                let ok = f.len() >= 2
-                    && f.first().is_some_and(|w| {
-                        w.eq_ignore_ascii_case("wavelength") || w.eq_ignore_ascii_case("nm")
-                    })
-                    && f[1..].iter().all(|n| !n.is_empty());
-                if !ok {
-                    return Err(Error::parse(
-                        at(),
-                        format!(
-                            "expected the header 'wavelength,<channel>,...' (channel names as \
-                             in the measurements), found '{}'",
-                            shorten(line)
-                        ),
-                    ));
-                }
-                out = Some(Responses {
-                    file: file.to_string(),
-                    header_line: lno,
-                    names: f[1..].iter().map(|s| s.to_string()).collect(),
-                    wavelengths: Vec::new(),
-                    values: vec![Vec::new(); f.len() - 1],
-                });
-                continue;
-            };
-            if f.len() != r.names.len() + 1 {
-                return Err(Error::parse(
-                    at(),
-                    format!(
-                        "expected {} fields (wavelength and {} responses), found {}",
-                        r.names.len() + 1,
-                        r.names.len(),
-                        f.len()
-                    ),
-                ));
-            }
-            let mut nums = Vec::with_capacity(f.len());
-            for (k, w) in f.iter().enumerate() {
-                let v = number(w).ok_or_else(|| {
-                    Error::parse(
-                        at(),
-                        format!(
-                            "expected a number in column {}, found {}",
-                            k + 1,
-                            if w.is_empty() {
-                                "a missing value".to_string()
-                            } else {
-                                format!("'{}'", shorten(w))
-                            }
-                        ),
-                    )
-                })?;
-                if k > 0 && v < 0.0 {
-                    return Err(Error::parse(
-                        at(),
-                        format!("negative response {v} in column {}", k + 1),
-                    ));
-                }
-                nums.push(v);
-            }
-            if r.wavelengths.last().is_some_and(|&l| nums[0] <= l) {
-                return Err(Error::parse(
-                    at(),
-                    format!(
-                        "wavelength {} nm: expected wavelengths increasing down the file",
-                        nums[0]
-                    ),
-                ));
-            }
-            r.wavelengths.push(nums[0]);
-            for (col, v) in r.values.iter_mut().zip(&nums[1..]) {
-                col.push(*v);
-            }
-        }
-        match out {
-            Some(r) if r.wavelengths.len() >= 2 => Ok(r),
-            Some(_) => Err(Error::parse(
+            Ok(Responses {
+                file: file.to_string(),
+                header_line: l.no,
+                names: f[1..].iter().map(|s| s.to_string()).collect(),
+                wavelengths: Vec::new(),
+                values: vec![Vec::new(); f.len() - 1],
+            })
+        };
+        let (r, _, _) = csv::read(text, file, "wavelength,<channel>,...", header, row)?;
+        if r.wavelengths.len() >= 2 {
+            Ok(r)
+        } else {
+            Err(Error::parse(
                 Location::file(file),
                 "expected at least two rows of responses after the header",
-            )),
-            None => Err(Error::parse(
-                Location::line(file, 1),
-                "expected the header 'wavelength,<channel>,...', found an empty file",
-            )),
+            ))
         }
     }
+}
+
+/// A row of responses, appended to `r`.
+fn row(r: &mut Responses, l: &csv::Line) -> Result<()> {
+    let f = &l.fields;
+    if f.len() != r.names.len() + 1 {
+        return Err(l.error(format!(
+            "expected {} fields (wavelength and {} responses), found {}",
+            r.names.len() + 1,
+            r.names.len(),
+            f.len()
+        )));
+    }
+    let mut nums = Vec::with_capacity(f.len());
+    for k in 0..f.len() {
+        let v = l.number(k, &format!("in column {}", k + 1))?;
+        if k > 0 && v < 0.0 {
+            return Err(l.error(format!("negative response {v} in column {}", k + 1)));
+        }
+        nums.push(v);
+    }
+    if r.wavelengths.last().is_some_and(|&w| nums[0] <= w) {
+        return Err(l.error(format!(
+            "wavelength {} nm: expected wavelengths increasing down the file",
+            nums[0]
+        )));
+    }
+    r.wavelengths.push(nums[0]);
+    for (col, v) in r.values.iter_mut().zip(&nums[1..]) {
+        col.push(*v);
+    }
+    Ok(())
 }
 
 /// Integral over `[lo, hi]` of the piecewise-linear `(x, y)` (zero outside its range).

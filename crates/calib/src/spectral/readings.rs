@@ -17,8 +17,9 @@
 //! photopic readings' rules and messages (unknown sensor ids, time stamps not in the
 //! weather file, duplicates).
 
+use crate::csv::{self, shorten};
 use crate::error::{Error, Location, Result};
-use crate::measurements::{Bound, Measurements, Reading, check_stamp, fields, number, shorten};
+use crate::measurements::{Bound, Measurements, Reading, check_stamp};
 use nom::Parser;
 use nom::bytes::complete::tag_no_case;
 use nom::character::complete::space0;
@@ -66,122 +67,98 @@ pub fn wavelength_of(name: &str) -> Option<f64> {
     }
 }
 
+/// The header: the keys, then channel names with their centre wavelengths.
+fn header(l: &csv::Line) -> Result<(Vec<String>, Vec<f64>)> {
+    let f = &l.fields;
+    let keys_ok =
+        f.len() > KEYS.len() && f.iter().zip(KEYS).all(|(a, b)| a.eq_ignore_ascii_case(b));
+    if !keys_ok {
+        return Err(l.error(format!(
+            "expected the header 'month,day,hour,sensor,' then one column per \
+             channel named by its centre wavelength (e.g. 410nm), found '{}'",
+            shorten(l.text)
+        )));
+    }
+    if f.len() - KEYS.len() > MAX_CHANNELS {
+        return Err(l.error(format!(
+            "{} channels; at most {MAX_CHANNELS} are supported",
+            f.len() - KEYS.len()
+        )));
+    }
+    let mut centres = Vec::new();
+    for (k, name) in f[KEYS.len()..].iter().enumerate() {
+        let c = wavelength_of(name).ok_or_else(|| {
+            l.error(format!(
+                "column {}: expected a channel's centre wavelength such as \
+                 410nm, found '{}'",
+                k + KEYS.len() + 1,
+                shorten(name)
+            ))
+        })?;
+        centres.push(c);
+    }
+    Ok((
+        f[KEYS.len()..].iter().map(|s| s.to_string()).collect(),
+        centres,
+    ))
+}
+
+/// A row: time stamp, sensor and one value per channel of the header's `names`.
+fn row(names: &[String], l: &csv::Line) -> Result<SpectralReading> {
+    let f = &l.fields;
+    let want = KEYS.len() + names.len();
+    if f.len() != want {
+        return Err(l.error(format!(
+            "expected {want} fields (month,day,hour,sensor and {} channels), found {}",
+            names.len(),
+            f.len()
+        )));
+    }
+    let (month, day, hour) = (
+        l.number(0, "for month")?,
+        l.number(1, "for day")?,
+        l.number(2, "for hour")?,
+    );
+    check_stamp(month, day, hour, &|| l.at())?;
+    let sensor = f.get(3).copied().unwrap_or("");
+    if sensor.is_empty() {
+        return Err(l.error("empty sensor id"));
+    }
+    let mut values = Vec::with_capacity(names.len());
+    for (k, name) in names.iter().enumerate() {
+        let v = l.number(KEYS.len() + k, &format!("for channel {name}"))?;
+        if v < 0.0 {
+            return Err(l.error(format!(
+                "negative value {v} for channel {name}; expected a value >= 0"
+            )));
+        }
+        values.push(v);
+    }
+    Ok(SpectralReading {
+        month: month as u32,
+        day: day as u32,
+        hour,
+        sensor: sensor.to_string(),
+        values,
+        line: l.no,
+    })
+}
+
 impl SpectralReadings {
     pub fn read_path(path: &str) -> Result<SpectralReadings> {
-        let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
-        SpectralReadings::parse(&String::from_utf8_lossy(&bytes), path)
+        SpectralReadings::parse(&csv::read_text(path)?, path)
     }
 
     /// Parse CSV text named `file`.
     pub fn parse(text: &str, file: &str) -> Result<SpectralReadings> {
-        let mut head: Option<(Vec<String>, Vec<f64>, usize)> = None;
-        let mut readings = Vec::new();
-        for (i, raw) in text.lines().enumerate() {
-            let lno = i + 1;
-            let at = || Location::line(file, lno);
-            let line = raw.trim();
-            if line.is_empty() || line.starts_with('#') {
-                continue;
-            }
-            let f = fields(line);
-            let Some((names, _, _)) = &head else {
-                let keys_ok = f.len() > KEYS.len()
-                    && f.iter().zip(KEYS).all(|(a, b)| a.eq_ignore_ascii_case(b));
-                if !keys_ok {
-                    return Err(Error::parse(
-                        at(),
-                        format!(
-                            "expected the header 'month,day,hour,sensor,' then one column per \
-                             channel named by its centre wavelength (e.g. 410nm), found '{}'",
-                            shorten(line)
-                        ),
-                    ));
-                }
-                if f.len() - KEYS.len() > MAX_CHANNELS {
-                    return Err(Error::parse(
-                        at(),
-                        format!(
-                            "{} channels; at most {MAX_CHANNELS} are supported",
-                            f.len() - KEYS.len()
-                        ),
-                    ));
-                }
-                let mut centres = Vec::new();
-                for (k, name) in f[KEYS.len()..].iter().enumerate() {
-                    let c = wavelength_of(name).ok_or_else(|| {
-                        Error::parse(
-                            at(),
-                            format!(
-                                "column {}: expected a channel's centre wavelength such as \
-                                 410nm, found '{}'",
-                                k + KEYS.len() + 1,
-                                shorten(name)
-                            ),
-                        )
-                    })?;
-                    centres.push(c);
-                }
-                head = Some((
-                    f[KEYS.len()..].iter().map(|s| s.to_string()).collect(),
-                    centres,
-                    lno,
-                ));
-                continue;
-            };
-            let want = KEYS.len() + names.len();
-            if f.len() != want {
-                return Err(Error::parse(
-                    at(),
-                    format!(
-                        "expected {want} fields (month,day,hour,sensor and {} channels), found {}",
-                        names.len(),
-                        f.len()
-                    ),
-                ));
-            }
-            let num = |k: usize, what: &str| {
-                let w = f.get(k).copied().unwrap_or("");
-                number(w).ok_or_else(|| {
-                    let found = if w.is_empty() {
-                        "a missing value".to_string()
-                    } else {
-                        format!("'{}'", shorten(w))
-                    };
-                    Error::parse(at(), format!("expected a number for {what}, found {found}"))
-                })
-            };
-            let (month, day, hour) = (num(0, "month")?, num(1, "day")?, num(2, "hour")?);
-            check_stamp(month, day, hour, &at)?;
-            let sensor = f.get(3).copied().unwrap_or("");
-            if sensor.is_empty() {
-                return Err(Error::parse(at(), "empty sensor id"));
-            }
-            let mut values = Vec::with_capacity(names.len());
-            for (k, name) in names.iter().enumerate() {
-                let v = num(KEYS.len() + k, &format!("channel {name}"))?;
-                if v < 0.0 {
-                    return Err(Error::parse(
-                        at(),
-                        format!("negative value {v} for channel {name}; expected a value >= 0"),
-                    ));
-                }
-                values.push(v);
-            }
-            readings.push(SpectralReading {
-                month: month as u32,
-                day: day as u32,
-                hour,
-                sensor: sensor.to_string(),
-                values,
-                line: lno,
-            });
-        }
-        let Some((names, centres, header_line)) = head else {
-            return Err(Error::parse(
-                Location::line(file, 1),
-                "expected the header 'month,day,hour,sensor,<channels>', found an empty file",
-            ));
-        };
+        let (head, header_line, readings) = csv::read(
+            text,
+            file,
+            "month,day,hour,sensor,<channels>",
+            header,
+            |(names, _): &mut (Vec<String>, Vec<f64>), l| row(names, l),
+        )?;
+        let (names, centres) = head;
         if readings.is_empty() {
             return Err(Error::parse(
                 Location::file(file),

@@ -18,12 +18,12 @@
 //!   unit Radiance photopic value, so the spectral result weighted photopically is the
 //!   photopic simulation (to Monte Carlo noise).
 //!
-//! Coefficients are cached with the photopic ones ([`Tracer::run`]).
+//! Coefficients are cached with the photopic ones ([`Simulator::run`]).
 
 use crate::error::{Error, Result};
 use crate::radiometry::Channels;
 use crate::scene::Scene;
-use crate::simulate::{Kind, StepSky, Tracer, What};
+use crate::simulate::{Kind, Simulator, StepSky, What};
 use crate::sky::spectral::{daylight_bands, photopic_shares, sky_cct, sun_cct};
 
 /// Simulated band values of every (sensor, step).
@@ -65,9 +65,9 @@ pub fn step_spectra(sk: &StepSky, ch: &Channels) -> (Vec<f64>, Vec<f64>, Vec<f64
     (s_sky, s_sun, ground)
 }
 
-/// Spectral irradiance of `scene` at the tracer's sensors and the steps `skies`.
+/// Spectral irradiance of `scene` at the simulator's sensors and the steps `skies`.
 pub fn simulate(
-    tracer: &Tracer,
+    simulator: &Simulator,
     scene: &Scene,
     skies: &[StepSky],
     nsens: usize,
@@ -79,8 +79,8 @@ pub fn simulate(
         what: What::Sky { direct_only: false },
         channels: *ch,
     };
-    let dc = tracer.run(&text, &kind)?;
-    let npatch = crate::sky::SkyPatches::new(tracer.settings.mf).len();
+    let dc = simulator.run(&text, &kind)?;
+    let npatch = crate::sky::SkyPatches::new(simulator.settings.mf).len();
     if dc.len() != nsens * npatch * n {
         return Err(Error::Mismatch(format!(
             "rdc returned {} spectral sky coefficients for {nsens} sensors, {npatch} patches \
@@ -95,7 +95,7 @@ pub fn simulate(
         what: What::Suns { bounces: true },
         channels: *ch,
     };
-    let vsun = tracer.run(&text, &k)?;
+    let vsun = simulator.run(&text, &k)?;
     if vsun.len() != nsens * nt * n {
         return Err(Error::Mismatch(format!(
             "rdc returned {} sun coefficients for {nsens} sensors, {nt} steps and {n} bands",

@@ -25,13 +25,15 @@
 //! assert!(up.spectrum.iter().all(|&v| (0.0..=1.0).contains(&v)));
 //! ```
 //!
-//! Outputs ([`output`]): Radiance 6 `spectrum` primitives with a `plastic` using them,
+//! Named colours to files as `ruplift rgb`/`batch` write them: [`colours`]. Outputs
+//! ([`output`]): Radiance 6 `spectrum` primitives with a `plastic` using them,
 //! `specfile` data files and CSV. The colour science underneath (CIE tables, observers,
 //! daylight spectra, melanopic weighting) is [`crate::colour`]; reflectance recovered from
 //! photos and HDR pictures, and the validation, are the analysis crate
 //! `rdaylight-reflectance` (seed chapter 5).
 
 pub mod basis;
+pub mod colours;
 pub mod jakob;
 pub mod output;
 pub mod solve;
