@@ -557,7 +557,13 @@ fn fallback_profile_against_genssky() {
             )
     );
     assert!(band < 3.5, "E_h worst band {band:.2} % (documented 2.9 %)");
-    assert!(phot.abs() < 0.5, "photopic E_h {phot:+.2} % (documented -0.1 %)");
+    assert!(
+        phot.abs() < 0.5,
+        "photopic E_h {phot:+.2} % (documented -0.1 %)"
+    );
     assert!(dcct < 20.0, "CCT {dcct:.0} K apart (documented 9 K)");
-    assert!(sun_band < 2.5, "sun worst band {sun_band:.2} % (documented 1.8 %)");
+    assert!(
+        sun_band < 2.5,
+        "sun worst band {sun_band:.2} % (documented 1.8 %)"
+    );
 }

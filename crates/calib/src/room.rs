@@ -113,12 +113,7 @@ pub fn sensor_centroid(sensors: &[crate::formats::sensors::Sensor]) -> [f64; 3] 
     })
 }
 
-pub(crate) fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-pub(crate) fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
+pub(crate) use rdaylight_base::vec3::{dot, sub};
 
 /// The model's windows and reflectance classes.
 #[derive(Debug, Clone, PartialEq)]

@@ -20,6 +20,7 @@
 
 use super::preprocess::{covariance, kdtree, knn, smallest_eigenvector};
 use rand::{Rng, SeedableRng};
+use rdaylight_base::vec3::{cross, dot, sub};
 use std::collections::{HashMap, VecDeque};
 
 /// RANSAC parameters (defaults: seed Table 4.2).
@@ -66,20 +67,6 @@ impl Plane {
     pub fn distance(&self, p: &[f64; 3]) -> f64 {
         dot(self.normal, *p) - self.d
     }
-}
-
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
 }
 
 /// Two unit vectors spanning the plane of normal `n`.
