@@ -8,6 +8,7 @@
 pub mod glare;
 pub mod glare_annual;
 pub mod rdc;
+pub mod rspecsky;
 
 use crate::error::Error;
 use std::io::Write;
