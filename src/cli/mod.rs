@@ -8,6 +8,7 @@
 pub mod glare;
 pub mod glare_annual;
 pub mod rdc;
+pub mod rinfo;
 pub mod rmtx;
 pub mod rspecsky;
 
