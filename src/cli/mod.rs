@@ -9,6 +9,7 @@ pub mod glare;
 pub mod glare_annual;
 pub mod rdc;
 pub mod rinfo;
+pub mod rmetrics;
 pub mod rmtx;
 pub mod rspecsky;
 
