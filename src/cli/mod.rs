@@ -9,7 +9,11 @@ pub mod glare;
 pub mod glare_annual;
 pub mod rcalib;
 pub mod rdc;
+pub mod rinfo;
+pub mod rmetrics;
+pub mod rmtx;
 pub mod rrecon;
+pub mod rspecsky;
 pub mod ruplift;
 
 use crate::error::Error;

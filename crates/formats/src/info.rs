@@ -4,6 +4,7 @@
 //! a long run, whether a scene parses and what it holds, what site and period a weather file
 //! covers, how many sensors a grid has, and the range of the numbers in a matrix. Each
 //! summary is computed by streaming the file, so it works on matrices of any size.
+//! [`describe`] picks the summary for one file by its content.
 
 use crate::error::{Error, Location, Result};
 use crate::header::Header;
@@ -328,6 +329,74 @@ pub fn describe_sensors<R: BufRead>(r: R, name: &str) -> Result<String> {
         "{name}: {n} sensor rays ({up} facing up), origins from ({:.4}, {:.4}, {:.4}) to ({:.4}, {:.4}, {:.4})\n",
         lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]
     ))
+}
+
+/// What `rinfo` prints for a picture or matrix.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Detail {
+    /// The header, as getinfo prints it.
+    #[default]
+    Header,
+    /// Dimensions only (getinfo -d).
+    Dimensions,
+    /// Per-component statistics of a matrix, luminance statistics of a picture.
+    Stats,
+}
+
+/// Opens `-` as standard input (default buffer), anything else as a file (64 KiB buffer);
+/// [`detect`] sees what the first fill of that buffer holds.
+fn open_described(path: &str) -> Result<Box<dyn BufRead>> {
+    use crate::error::IoContext;
+    if path == "-" {
+        return Ok(Box::new(std::io::BufReader::new(std::io::stdin().lock())));
+    }
+    Ok(Box::new(std::io::BufReader::with_capacity(
+        1 << 16,
+        std::fs::File::open(path).at_path(path)?,
+    )))
+}
+
+/// A Radiance header as getinfo prints it: the name, then each line indented by a tab.
+pub fn header_text(h: &Header, path: &str) -> String {
+    let mut s = format!(
+        "{path}:\n\t#?{}\n",
+        h.magic.as_deref().unwrap_or("RADIANCE")
+    );
+    for l in &h.lines {
+        s.push('\t');
+        s.push_str(l);
+        s.push('\n');
+    }
+    s.push('\n');
+    s
+}
+
+/// The summary of one file (`-` = standard input) by its content: a picture's or matrix's
+/// header, dimensions or statistics (`detail`), a weather file's site and period, a sensor
+/// file's rays, or a scene (loaded with `load`, which says whether `!commands` run).
+pub fn describe(path: &str, detail: Detail, load: &crate::scene::LoadOptions) -> Result<String> {
+    use crate::error::IoContext;
+    use std::io::Read as _;
+    let mut r = open_described(path)?;
+    let kind = detect(r.fill_buf().at_path(path)?);
+    Ok(match kind {
+        Kind::Radiance => match detail {
+            Detail::Dimensions => format!("{path}: {}\n", dimensions(r, path)?),
+            Detail::Stats => stats(r, path)?,
+            Detail::Header => header_text(&Header::read(&mut r, path)?, path),
+        },
+        Kind::Weather => {
+            let mut bytes = Vec::new();
+            r.read_to_end(&mut bytes).at_path(path)?;
+            let w = Weather::parse(&crate::weather::decode_text(&bytes), path)?;
+            describe_weather(&w, path)
+        }
+        Kind::Sensors => describe_sensors(r, path)?,
+        Kind::Scene => {
+            drop(r);
+            describe_scene(&crate::scene::load(&[path], load)?, path)
+        }
+    })
 }
 
 #[cfg(test)]

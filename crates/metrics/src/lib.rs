@@ -12,12 +12,14 @@
 //! - [`compare`]: PE, MAPE, RMSE between model variants (seed Appendix A, Eq. A.1-A.3).
 //! - [`map`]: falsecolor PNG of one metric over the sensor grid's floor plan.
 //! - [`report`]: the TSV and JSON outputs.
+//! - [`config`]: what `rmetrics` runs (annual metrics, melanopic, compare) as typed configs.
 
 use rdaylight_base::{colour, error, radiometry};
 use rdaylight_formats as formats;
 
 pub mod annual;
 pub mod compare;
+pub mod config;
 pub mod map;
 pub mod melanopic;
 pub mod report;

@@ -23,15 +23,18 @@
 //! - [`ascii`]: the number tokenizer (nom) and C-style `%.Ne` formatting.
 //! - [`memory`]: [`Matrix`], a whole small matrix in memory (load, save, transpose).
 //! - [`ops`]: shape checks, per-channel multiplication and channel transforms (`rmtxop -c`).
+//! - [`pipeline`]: [`Pipeline`], one streamed convert / multiply / stack job (`rmtx`).
 
 pub mod ascii;
 pub mod memory;
 pub mod ops;
+pub mod pipeline;
 pub mod reader;
 pub mod writer;
 
 pub use memory::Matrix;
 pub use ops::{ChannelTransform, RowOps, Shape};
+pub use pipeline::Pipeline;
 pub use reader::{MatrixReader, ReadOptions};
 pub use writer::{MatrixWriter, WriteOptions};
 

@@ -22,6 +22,8 @@
 //!   (cached on disk); [`genssky`]: the point-in-time spectral sky and sun genssky writes;
 //!   [`atmosphere_matrix`]: gensdaymtx's physically based spectral sky matrices.
 //! - [`specpict`]: the `specpict` sky picture of genssky, evaluated natively.
+//! - [`config`]: typed configurations of the three `rspecsky` modes (sky matrix, point-in-time
+//!   gendaylit sky, genssky), each validated and written by one call.
 //!
 //! Coordinates everywhere: +X east, +Y north, +Z zenith; radiance in W sr^-1 m^-2 of
 //! Radiance's visible "white" (luminance / 179).
@@ -29,6 +31,7 @@
 pub mod atmosphere;
 pub mod atmosphere_matrix;
 pub mod cie;
+pub mod config;
 pub mod efficacy;
 pub mod gendaylit;
 pub mod genssky;

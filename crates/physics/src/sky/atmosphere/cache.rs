@@ -220,6 +220,20 @@ pub fn compute(atm: &Atmosphere) -> Result<Tables> {
     Ok(t)
 }
 
+/// The folder of the tables when none is given (gensdaymtx/genssky `-p`): the user's cache
+/// folder, `$XDG_CACHE_HOME/rdaylight`, else `~/.cache/rdaylight` (the XDG base directory
+/// default), else the current folder; tables are computed once per climate and AOD and
+/// shared by every run of the user.
+pub fn default_dir() -> PathBuf {
+    if let Some(x) = std::env::var_os("XDG_CACHE_HOME").filter(|x| !x.is_empty()) {
+        return PathBuf::from(x).join("rdaylight");
+    }
+    if let Some(h) = std::env::var_os("HOME").filter(|x| !x.is_empty()) {
+        return PathBuf::from(h).join(".cache").join("rdaylight");
+    }
+    PathBuf::from(".")
+}
+
 /// Tables for `atm`, from `dir/atmos_data` when a valid entry exists, else computed and
 /// stored there (the folder is created).
 pub fn load_or_compute(dir: &Path, atm: &Atmosphere) -> Result<(Tables, CacheStatus)> {

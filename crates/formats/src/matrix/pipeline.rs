@@ -1,0 +1,258 @@
+//! # Convert, multiply or stack matrices in one streamed pass (`rmtx`)
+//!
+//! The `rmtxop`/`dctimestep` counterpart as a typed job: [`Pipeline::run`] reads every
+//! header (and loads every right operand) before anything is written, so a shape or
+//! NCOMP mismatch is reported first; then the first input is streamed row by row through
+//! the multiplications, the channel transform (`rmtxop -c`) and the scale (`rmtxop -s`).
+//! With [`Pipeline::stack`] the inputs' row blocks are concatenated instead.
+//!
+//! Channels multiply per channel (RGB x RGB multiplies red by red, as dctimestep and rmtxop
+//! do). `-c`, `-s` and `-t` apply to the result (unlike rmtxop, where options before a
+//! matrix apply to that matrix).
+
+use super::ops::{check_multiply, check_stack, scale_factors};
+use super::writer::{DOUBLE_DIGITS, FLOAT_DIGITS};
+use super::{
+    ChannelTransform, DataFormat, Matrix, MatrixReader, MatrixWriter, ReadOptions, RowOps, Shape,
+    WriteOptions,
+};
+use crate::error::{Error, Result};
+use crate::header::Header;
+use crate::radiometry::Channels;
+use std::io::{BufRead, Write};
+
+/// One `rmtx` run.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Pipeline {
+    /// Matrix files; `-` is standard input (at most once; none means `-`).
+    pub inputs: Vec<String>,
+    /// Concatenate row blocks of inputs with equal NCOLS and NCOMP instead of multiplying.
+    pub stack: bool,
+    /// How inputs without a header are read (`EXPOSURE=`/`COLORCORR=` are divided out).
+    pub read: ReadOptions,
+    /// Channel transform of the result (`rmtxop -c`): coefficients or one symbolic word.
+    pub coefs: Vec<String>,
+    /// Scale of the result (`rmtxop -s`): one factor, or one per output component.
+    pub scale: Vec<f64>,
+    /// Output format; default: the lowest-precision input format in Radiance's order
+    /// (float < ascii < double). `Rgbe` means `-fc`: RGBE, or Radiance_spectra beyond 3
+    /// components.
+    pub format: Option<DataFormat>,
+    /// Transpose the result (held in memory).
+    pub transpose: bool,
+    /// Write the header.
+    pub header: bool,
+    /// The command line for the header.
+    pub command: Vec<String>,
+    /// The output is a seekable file.
+    pub seekable: bool,
+}
+
+/// The inputs, opened and checked, ready to stream.
+struct Opened {
+    /// Streamed inputs (the first, or all with `stack`).
+    readers: Vec<MatrixReader<Box<dyn BufRead>>>,
+    /// Right operands, in memory.
+    chain: Vec<Matrix>,
+    nrows: Option<usize>,
+    in_format: DataFormat,
+    all_double: bool,
+}
+
+impl Pipeline {
+    fn inputs(&self) -> Vec<String> {
+        if self.inputs.is_empty() {
+            vec!["-".into()]
+        } else {
+            self.inputs.clone()
+        }
+    }
+
+    /// Run the job, writing to `out` (`name` in errors); `progress(rows, finished)` is
+    /// called every 256 rows and once at the end.
+    pub fn run<W: Write>(&self, out: W, name: &str, progress: &dyn Fn(usize, bool)) -> Result<()> {
+        let inputs = self.inputs();
+        if inputs.iter().filter(|p| *p == "-").count() > 1 {
+            return Err(Error::Usage(
+                "standard input used for more than one matrix".into(),
+            ));
+        }
+        let mut o = self.open(&inputs)?;
+        let first_ch = o.readers[0].info().channels;
+        let (ncols, ncomp) = (o.readers[0].ncols(), o.readers[0].ncomp());
+        let transform = if self.coefs.is_empty() {
+            None
+        } else {
+            // Symbolic words on spectral data need the bands: the first input's header.
+            let ch = Channels { ncomp, ..first_ch };
+            Some(ChannelTransform::parse_for(&self.coefs, &ch, "result")?)
+        };
+        let out_ncomp = transform.as_ref().map_or(ncomp, |t| t.nout);
+        let factors = if self.scale.is_empty() {
+            None
+        } else {
+            Some(scale_factors(&self.scale, out_ncomp)?)
+        };
+        let chain = std::mem::take(&mut o.chain);
+        let mut ops = RowOps::new(ncomp, chain, transform, factors);
+        let channels = Channels {
+            ncomp: out_ncomp,
+            ..first_ch
+        };
+        let wopts = self.write_options(&o, out_ncomp);
+        let mut header = Header::new();
+        header.push_command(&self.command);
+        let out_ncols = ops.out_ncols(ncols);
+        let mut row = vec![0.0; ncols * ncomp];
+        let mut done = 0usize;
+        let mut each = |r: &mut MatrixReader<Box<dyn BufRead>>,
+                        f: &mut dyn FnMut(&[f64]) -> Result<()>|
+         -> Result<()> {
+            while r.read_row(&mut row)? {
+                f(ops.apply(&row))?;
+                done += 1;
+                if done % 256 == 0 {
+                    progress(done, false);
+                }
+            }
+            Ok(())
+        };
+        if self.transpose {
+            let mut data = Vec::new();
+            for r in &mut o.readers {
+                each(r, &mut |v| {
+                    data.extend_from_slice(v);
+                    Ok(())
+                })?;
+            }
+            let m = Matrix {
+                nrows: done,
+                ncols: out_ncols,
+                channels,
+                data,
+            };
+            m.transpose().write(out, name, header, wopts)?;
+        } else {
+            let mut w = MatrixWriter::new(out, name, header, o.nrows, out_ncols, channels, wopts)?;
+            for r in &mut o.readers {
+                each(r, &mut |v| w.write_row(v))?;
+            }
+            w.finish()?;
+        }
+        progress(done, true);
+        Ok(())
+    }
+
+    /// Open every input; check shapes (and bands) before any large load.
+    fn open(&self, inputs: &[String]) -> Result<Opened> {
+        let mut readers = Vec::new();
+        for p in if self.stack { inputs } else { &inputs[..1] } {
+            readers.push(MatrixReader::open(p, &self.read)?);
+        }
+        let first = &readers[0];
+        let in_format = first.info().format;
+        let mut o = Opened {
+            nrows: first.nrows(),
+            in_format,
+            all_double: in_format == DataFormat::Double,
+            readers,
+            chain: Vec::new(),
+        };
+        if self.stack {
+            o.check_stack()?;
+        } else {
+            o.load_chain(&inputs[1..], &self.read)?;
+        }
+        Ok(o)
+    }
+
+    fn write_options(&self, o: &Opened, out_ncomp: usize) -> WriteOptions {
+        let mut format = self.format.unwrap_or(o.in_format);
+        // -fc: RGBE for 1 or 3 components, Radiance_spectra beyond (as rmtxop -fc).
+        if format == DataFormat::Rgbe && out_ncomp > 3 {
+            format = DataFormat::Spectra;
+        }
+        let mut wopts = WriteOptions::new(format);
+        wopts.header = self.header;
+        wopts.seekable = self.seekable;
+        wopts.ascii_digits = if o.all_double {
+            DOUBLE_DIGITS
+        } else {
+            FLOAT_DIGITS
+        };
+        wopts
+    }
+}
+
+impl Opened {
+    fn first(&self) -> (String, Shape) {
+        let f = &self.readers[0];
+        (f.name().to_string(), f.info().shape())
+    }
+
+    fn note_format(&mut self, f: DataFormat) {
+        self.in_format = self.in_format.combine(f);
+        self.all_double &= f == DataFormat::Double;
+    }
+
+    fn check_stack(&mut self) -> Result<()> {
+        let (fname, fshape) = self.first();
+        let mut formats = Vec::new();
+        for r in &self.readers[1..] {
+            check_stack(&fname, fshape, r.name(), r.info().shape())?;
+            self.nrows = self.nrows.zip(r.nrows()).map(|(a, b)| a + b);
+            formats.push(r.info().format);
+        }
+        for f in formats {
+            self.note_format(f);
+        }
+        Ok(())
+    }
+
+    /// Open the right operands, check their headers, then load them.
+    fn load_chain(&mut self, paths: &[String], ropts: &ReadOptions) -> Result<()> {
+        let mut right = Vec::new();
+        for p in paths {
+            right.push(MatrixReader::open(p, ropts)?);
+        }
+        // Cheap header checks first, so a mismatch is reported before any large load.
+        self.check_headers(&right)?;
+        let mut prev = self.first();
+        for mut r in right {
+            let name = r.name().to_string();
+            self.note_format(r.info().format);
+            let m = Matrix::read_all(&mut r)?;
+            check_multiply(&prev.0, prev.1, &name, m.shape())?;
+            prev = (name, m.shape());
+            self.chain.push(m);
+        }
+        Ok(())
+    }
+
+    fn check_headers(&self, right: &[MatrixReader<Box<dyn BufRead>>]) -> Result<()> {
+        let (fname, fshape) = self.first();
+        let first_ch = self.readers[0].info().channels;
+        let ncomp = self.readers[0].ncomp();
+        let mut prev = (fname.clone(), fshape);
+        for r in right {
+            let s = r.info().shape();
+            // Spectral operands must cover the same bands (rmtxop does not check: it would
+            // multiply band i of one range by band i of another).
+            let ch = r.info().channels;
+            if ncomp > 3 && ch.ncomp == ncomp && ch.splits != first_ch.splits {
+                return Err(Error::Mismatch(format!(
+                    "{} (WAVELENGTH_SPLITS {:?}) cannot multiply {} ({:?}): the bands differ",
+                    fname,
+                    first_ch.splits,
+                    r.name(),
+                    ch.splits
+                )));
+            }
+            if s.nrows.is_some() {
+                check_multiply(&prev.0, prev.1, r.name(), s)?;
+            }
+            prev = (r.name().to_string(), s);
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,170 @@
+//! # `rmtx`'s command line: rmtxop's and dctimestep's letters
+//!
+//! The tools layer's half of `rmtx`: the clap struct and its conversion into the library's
+//! typed job ([`Pipeline`], `rdaylight::formats::matrix::pipeline`), which opens, checks,
+//! multiplies and writes. `-c`/`-s` take numbers up to the first non-number as rmtxop does
+//! ([`Options::parse_from`] gives the file names clap took for them back to the inputs).
+
+use crate::error::{Error, Result};
+use crate::formats::matrix::{DataFormat, Pipeline, ReadOptions};
+use clap::{CommandFactory, FromArgMatches, Parser};
+
+pub const EXAMPLES: &str = "\
+Examples:
+  Daylight coefficients times a sky matrix, to illuminance in lux (as dctimestep | rmtxop):
+    gendaymtx -m 1 -of site.wea > sky.smx
+    rmtx dc.mtx sky.smx -c 47.4 119.9 11.6 -fa > ill.txt
+  Convert rcontrib's headerless ascii (-h, no -y) to float with a header:
+    rcontrib -h -I+ ... | rmtx -ia -ff - > dc.mtx
+  Spectral coefficients times a spectral sky matrix, to illuminance and Radiance's M:
+    rmtx dc18.mtx sky18.smx -c YM -fa > ill_M.txt
+  Stack sensor blocks computed on two machines:
+    rmtx --cat part1.mtx part2.mtx > dc.mtx";
+
+/// Radiance matrix operations (rmtxop/dctimestep counterpart).
+///
+/// With one input: convert it (format, -c, -s, -t). With several: multiply them left to
+/// right, per channel (RGB x RGB multiplies red by red, as dctimestep and rmtxop do); the
+/// first input is streamed row by row, the others are held in memory. Shapes and NCOMP of
+/// every input are checked before anything is written. -c, -s and -t apply to the result
+/// wherever they appear (unlike rmtxop, where options before a matrix apply to that matrix).
+/// EXPOSURE=/COLORCORR= in input headers are divided out on load, as rmtxop does.
+#[derive(Parser, Debug)]
+#[command(name = "rmtx", disable_help_flag = true, after_help = EXAMPLES)]
+pub struct Options {
+    /// Output format a|f|d|c (-fa ascii, -ff float, -fd double, -fc RGBE picture rows or
+    /// Radiance_spectra for NCOMP > 3; rmtxop -f). Default: the
+    /// lowest-precision input format in Radiance's order (float < ascii < double), i.e. a
+    /// single input keeps its own format.
+    #[arg(short = 'f', value_name = "a|f|d|c")]
+    pub format: Option<String>,
+
+    /// Write no header (Radiance -h).
+    #[arg(short = 'h')]
+    pub no_header: bool,
+
+    /// Transpose the result (rmtxop -t after the last matrix). Holds the result in memory.
+    #[arg(short = 't')]
+    pub transpose: bool,
+
+    /// Channel transform of the result (rmtxop -c): N x NCOMP coefficients, e.g.
+    /// `-c 47.4 119.9 11.6` (RGB irradiance to lux), or one symbolic word, one output
+    /// component per letter: R G B, X Y Z (x 179), S scotopic (x 412), M melanopic (x 179,
+    /// Radiance's equal-energy-normalised value: m-EDI = 0.9233 M), A mean; lower case
+    /// without the factor. On RGB, `-c Y` = 179 x (0.265106 0.670106 0.064788); on
+    /// spectral matrices (NCOMP > 3) the bands come from WAVELENGTH_SPLITS and are weighted
+    /// with Radiance's own observer tables, as rmtxop does.
+    #[arg(short = 'c', num_args = 1.., allow_negative_numbers = true, value_name = "W")]
+    pub coefs: Vec<String>,
+
+    /// Scale the result (rmtxop -s): one factor, or one per output component.
+    #[arg(short = 's', num_args = 1.., allow_negative_numbers = true, value_name = "F")]
+    pub scale: Vec<String>,
+
+    /// Concatenate row blocks of inputs with equal NCOLS and NCOMP instead of multiplying
+    /// (like `cat` of headerless blocks; rcollate/rcomb have no single equivalent).
+    #[arg(long = "cat")]
+    pub cat: bool,
+
+    /// Format a|f|d of inputs without a header (dctimestep -i; rcontrib/rtrace/gendaymtx -h).
+    #[arg(short = 'i', value_name = "a|f|d")]
+    pub iformat: Option<String>,
+
+    /// NCOMP of inputs without a header (default 3).
+    #[arg(long = "ncomp", value_name = "N")]
+    pub ncomp: Option<usize>,
+
+    /// NCOLS of inputs without a header (headerless ascii: inferred from the first line).
+    #[arg(long = "ncols", value_name = "N")]
+    pub ncols: Option<usize>,
+
+    /// Print help.
+    #[arg(long = "help", action = clap::ArgAction::Help)]
+    pub help: Option<bool>,
+
+    /// Matrix files; `-` is standard input (the default when none is given).
+    #[arg(value_name = "FILE|-")]
+    pub inputs: Vec<String>,
+}
+
+impl Options {
+    /// Parse `args` (program name first); a clap error prints clap's block and exits 2, as
+    /// `rmtx` always has. `-c`/`-s` take numbers up to the first non-number as rmtxop does,
+    /// so file names that clap gave them go back to the inputs, in command-line order.
+    pub fn parse_from(args: Vec<String>) -> Options {
+        let m = Options::command().get_matches_from(args);
+        let mut opts = Options::from_arg_matches(&m).unwrap_or_else(|e| e.exit());
+        let mut inputs: Vec<(usize, String)> = indexed(&m, "inputs");
+        let split = |id: &str, symbolic: bool, inputs: &mut Vec<(usize, String)>| {
+            let vals = indexed(&m, id);
+            let mut n = vals
+                .iter()
+                .take_while(|(_, v)| v.parse::<f64>().is_ok())
+                .count();
+            if n == 0 && symbolic && !vals.is_empty() {
+                n = 1;
+            }
+            inputs.extend(vals[n..].iter().cloned());
+            vals[..n].iter().map(|(_, v)| v.clone()).collect::<Vec<_>>()
+        };
+        opts.coefs = split("coefs", true, &mut inputs);
+        opts.scale = split("scale", false, &mut inputs);
+        inputs.sort_by_key(|(i, _)| *i);
+        opts.inputs = inputs.into_iter().map(|(_, v)| v).collect();
+        opts
+    }
+
+    /// The library's job; `command` goes into the header.
+    pub fn to_pipeline(&self, command: Vec<String>) -> Result<Pipeline> {
+        let read = ReadOptions {
+            format: format_opt(&self.iformat, "-i")?,
+            ncomp: self.ncomp,
+            ncols: self.ncols,
+            nrows: None,
+            undo_exposure: true,
+        };
+        Ok(Pipeline {
+            inputs: self.inputs.clone(),
+            stack: self.cat,
+            read,
+            coefs: self.coefs.clone(),
+            scale: self.scale.iter().filter_map(|s| s.parse().ok()).collect(),
+            format: format_opt(&self.format, "-f")?,
+            transpose: self.transpose,
+            header: !self.no_header,
+            command,
+            seekable: crate::io::stdout_is_file(),
+        })
+    }
+}
+
+fn indexed(m: &clap::ArgMatches, id: &str) -> Vec<(usize, String)> {
+    match (m.indices_of(id), m.get_many::<String>(id)) {
+        (Some(i), Some(v)) => i.zip(v.cloned()).collect(),
+        _ => Vec::new(),
+    }
+}
+
+/// `-f` (a, f, d or c) and `-i` (a, f or d) letters.
+fn format_opt(v: &Option<String>, opt: &str) -> Result<Option<DataFormat>> {
+    match v.as_deref() {
+        None => Ok(None),
+        Some(l) => match DataFormat::from_letter(l) {
+            Some(f) if f != DataFormat::Rgbe || opt == "-f" => Ok(Some(f)),
+            _ => Err(Error::Usage(format!(
+                "{opt}{l}: expected {opt}a, {opt}f or {opt}d"
+            ))),
+        },
+    }
+}
+
+/// Progress on standard error (`rmtx: N rows`), when it is a terminal.
+pub fn progress(show: bool) -> impl Fn(usize, bool) {
+    move |done, finished| {
+        if show && finished {
+            eprintln!("\rrmtx: {done} rows");
+        } else if show {
+            eprint!("\rrmtx: {done} rows");
+        }
+    }
+}
