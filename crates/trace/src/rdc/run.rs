@@ -184,7 +184,7 @@ impl Tracer {
     /// Compile `scene` for `config` (validated first). Errors (unsupported primitives, bad
     /// settings, a point-in-time run without a sky) come with file:line before any input.
     pub fn new(config: &Config, scene: &Scene) -> Result<Tracer> {
-        Tracer::build(config, scene, &[], &[])
+        Tracer::build(config, scene, None, &[])
     }
 
     /// As [`Tracer::new`]; `names` (the scene's inputs) go into the no-sky error and
@@ -192,7 +192,7 @@ impl Tracer {
     fn build(
         config: &Config,
         scene: &Scene,
-        names: &[String],
+        names: Option<&[String]>,
         command: &[String],
     ) -> Result<Tracer> {
         config.validate(false)?;
@@ -385,7 +385,7 @@ pub fn main(run: &Run) -> Result<()> {
     let t_start = std::time::Instant::now();
     let scene = crate::scene::load(&run.scene, &run.load)?;
     let load_time = t_start.elapsed();
-    let tracer = Tracer::build(&run.config, &scene, &run.scene, &run.command)?;
+    let tracer = Tracer::build(&run.config, &scene, Some(&run.scene), &run.command)?;
     drop(scene);
     let channels = tracer.channels;
     let job = tracer.job();
@@ -430,12 +430,13 @@ pub fn main(run: &Run) -> Result<()> {
     result
 }
 
-fn check_sky(r: &Renderable, scene: &[String]) -> Result<()> {
+/// `scene`: the inputs' names as the user gave them (`None` for an in-memory scene).
+fn check_sky(r: &Renderable, scene: Option<&[String]>) -> Result<()> {
     if r.sources().is_empty() {
-        let what = if scene.is_empty() {
-            "no sky in the scene".to_string()
-        } else {
-            format!("no sky in {}", scene.join(" "))
+        let what = match scene {
+            None => "no sky in the scene".to_string(),
+            Some([]) => "no scene given".to_string(),
+            Some(names) => format!("no sky in {}", names.join(" ")),
         };
         return Err(Error::Usage(format!(
             "{what}: point-in-time values need glow or light sources (gensky + skyglow.rad); \
