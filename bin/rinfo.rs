@@ -3,14 +3,13 @@
 //! The command line is `rdaylight::cli::rinfo`; all summaries are `rdaylight::info`. This
 //! file parses options and prints one summary per file.
 
-use clap::Parser;
 use rdaylight::cli::rinfo::Options;
 use rdaylight::error::IoContext;
 use std::io::Write;
 
 fn main() {
     rdaylight::cli::run("rinfo", || {
-        let opts = Options::parse();
+        let opts = rdaylight::cli::parse_or_exit::<Options>(std::env::args().collect())?;
         let (detail, load) = (opts.detail(), opts.load_options());
         let mut out = std::io::stdout().lock();
         for f in &opts.files {

@@ -3,7 +3,6 @@
 //! command line is `rdaylight::cli::rmetrics`; what is computed and written is
 //! `rdaylight::metrics::config`. This file parses options and opens standard output.
 
-use clap::Parser;
 use rdaylight::cli::rmetrics::{Command, Options};
 
 fn main() {
@@ -11,7 +10,8 @@ fn main() {
 }
 
 fn real_main() -> Result<(), rdaylight::Error> {
-    let cmd = Options::parse().to_command(std::env::args().collect())?;
+    let cmd = rdaylight::cli::parse_or_exit::<Options>(std::env::args().collect())?
+        .to_command(std::env::args().collect())?;
     let mut stdout = std::io::BufWriter::new(std::io::stdout().lock());
     match cmd {
         Command::Annual(c) => c.run(&mut stdout, &|n| eprintln!("rmetrics: note: {n}")),

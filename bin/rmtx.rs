@@ -11,7 +11,7 @@ fn main() {
 
 fn real_main() -> Result<(), rdaylight::Error> {
     let args: Vec<String> = std::env::args().collect();
-    let job = Options::parse_from(args.clone()).to_pipeline(args)?;
+    let job = Options::parse_from(args.clone())?.to_pipeline(args)?;
     let out = std::io::BufWriter::with_capacity(1 << 16, std::io::stdout().lock());
     job.run(out, "<stdout>", &progress(rdaylight::io::show_progress()))
 }

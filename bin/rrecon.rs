@@ -2,7 +2,6 @@
 //! The command line is `rdaylight::cli::rrecon`; the pipeline and the commands are
 //! `rdaylight::recon` (`recon::run`).
 
-use clap::Parser;
 use rdaylight::Error;
 use rdaylight::cli::rrecon::{Cli, Command};
 use rdaylight::recon::run;
@@ -12,7 +11,7 @@ fn main() {
 }
 
 fn real_main() -> Result<(), Error> {
-    let cli = Cli::parse();
+    let cli = rdaylight::cli::parse_or_exit::<Cli>(std::env::args().collect())?;
     let stdout = std::io::stdout();
     let out = &mut stdout.lock();
     match &cli.command {

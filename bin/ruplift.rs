@@ -3,7 +3,6 @@
 //! `rdaylight::uplift::colours` (rgb, batch) and `rdaylight::uplift::run` (photo, proxy,
 //! validate).
 
-use clap::Parser;
 use rdaylight::Error;
 use rdaylight::cli::ruplift::{Cli, Command};
 use rdaylight::error::IoContext;
@@ -15,7 +14,7 @@ fn main() {
 }
 
 fn real_main() -> Result<(), Error> {
-    let cli = Cli::parse();
+    let cli = rdaylight::cli::parse_or_exit::<Cli>(std::env::args().collect())?;
     let stdout = std::io::stdout();
     let mut out = std::io::BufWriter::new(stdout.lock());
     let err = &mut std::io::stderr();

@@ -36,15 +36,16 @@ pub fn run(prog: &str, f: impl FnOnce() -> Result<(), Error>) -> ! {
 /// error becomes one line (what clap says first) and status 1 like every other error (clap
 /// alone would print a block and exit 2).
 pub fn parse_or_exit<P: clap::Parser>(args: Vec<String>) -> Result<P, Error> {
-    match P::try_parse_from(args) {
-        Ok(o) => Ok(o),
-        Err(e) if !e.use_stderr() => e.exit(),
-        Err(e) => {
-            let text = e.to_string();
-            let first = text.lines().next().unwrap_or("bad command line");
-            Err(Error::Usage(
-                first.trim_start_matches("error: ").to_string(),
-            ))
-        }
+    P::try_parse_from(args).map_err(usage_error)
+}
+
+/// The one convention for command-line errors in every tool: `--help`/`--version` print and
+/// exit 0; anything else becomes a one-line [`Error::Usage`] (status 1 through [`run`]).
+pub fn usage_error(e: clap::Error) -> Error {
+    if !e.use_stderr() {
+        e.exit()
     }
+    let text = e.to_string();
+    let first = text.lines().next().unwrap_or("bad command line");
+    Error::Usage(first.trim_start_matches("error: ").to_string())
 }

@@ -88,12 +88,14 @@ pub struct Options {
 }
 
 impl Options {
-    /// Parse `args` (program name first); a clap error prints clap's block and exits 2, as
-    /// `rmtx` always has. `-c`/`-s` take numbers up to the first non-number as rmtxop does,
+    /// Parse `args` (program name first); clap errors follow [`super::usage_error`].
+    /// `-c`/`-s` take numbers up to the first non-number as rmtxop does,
     /// so file names that clap gave them go back to the inputs, in command-line order.
-    pub fn parse_from(args: Vec<String>) -> Options {
-        let m = Options::command().get_matches_from(args);
-        let mut opts = Options::from_arg_matches(&m).unwrap_or_else(|e| e.exit());
+    pub fn parse_from(args: Vec<String>) -> Result<Options> {
+        let m = Options::command()
+            .try_get_matches_from(args)
+            .map_err(super::usage_error)?;
+        let mut opts = Options::from_arg_matches(&m).map_err(super::usage_error)?;
         let mut inputs: Vec<(usize, String)> = indexed(&m, "inputs");
         let split = |id: &str, symbolic: bool, inputs: &mut Vec<(usize, String)>| {
             let vals = indexed(&m, id);
@@ -111,7 +113,7 @@ impl Options {
         opts.scale = split("scale", false, &mut inputs);
         inputs.sort_by_key(|(i, _)| *i);
         opts.inputs = inputs.into_iter().map(|(_, v)| v).collect();
-        opts
+        Ok(opts)
     }
 
     /// The library's job; `command` goes into the header.

@@ -261,8 +261,10 @@ pub fn command(args: Vec<String>) -> Result<Command> {
         "-cw" => "--cw".to_string(),
         _ => a.clone(),
     });
-    let m = Options::command().get_matches_from(clap_args);
-    let opts = Options::from_arg_matches(&m).unwrap_or_else(|e| e.exit());
+    let m = Options::command()
+        .try_get_matches_from(clap_args)
+        .map_err(super::usage_error)?;
+    let opts = Options::from_arg_matches(&m).map_err(super::usage_error)?;
     if let Some(out) = opts.output {
         if out > 1 {
             return Err(Error::Usage(format!(
@@ -467,7 +469,7 @@ pub fn genssky_config(args: Vec<String>) -> Result<GensskyConfig> {
         .enumerate()
         .filter(|(i, _)| *i != 1)
         .map(|(_, a)| a.clone());
-    let g = GensskyArgs::try_parse_from(rest).unwrap_or_else(|e| e.exit());
+    let g = GensskyArgs::try_parse_from(rest).map_err(super::usage_error)?;
     let whole = |s: &str, what: &str| -> Result<u32> {
         s.parse::<u32>()
             .map_err(|_| Error::Usage(format!("{what} \"{s}\": expected a whole number")))
