@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""rdc against real rcontrib at equal noise (shared/docs/BENCHMARKING.md rules 2-4).
+"""rdc against real rcontrib at equal noise (docs/benchmarking.md rules 2-4).
 
 Same scene bytes (radiance-fixtures/scenes/SCENE.rad + sky_glow360.rad; SCENE = furnished by
 default, the issue's target, or office), same 165 sensors,

@@ -14,7 +14,7 @@
 # Everything is deterministic except Monte Carlo noise (and the dates Radiance writes in
 # headers). Independent Monte Carlo runs: Radiance has no seed option, so run r prepends
 # K_r copies of the first sensor ray and the script drops those leading rows afterwards
-# (docs: BENCHMARKING.md rule 2). Paths are relative to this folder only.
+# (docs/benchmarking.md rule 2). Paths are relative to this folder only.
 set -euo pipefail
 cd "$(dirname "$0")"
 

@@ -188,7 +188,7 @@ pub struct Options {
     #[arg(short = 'n', value_name = "N")]
     pub threads: Option<usize>,
 
-    /// Random seed (Radiance has none: BENCHMARKING.md rule 2). Each record's stream is
+    /// Random seed (Radiance has none: docs/benchmarking.md rule 2). Each record's stream is
     /// derived from (seed, record index).
     #[arg(short = 's', value_name = "SEED", default_value_t = 0)]
     pub seed: u64,

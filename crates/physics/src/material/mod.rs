@@ -27,7 +27,7 @@
 //! Radiance's material set is closed (the `otype` table), the integrator needs to branch on
 //! the kind anyway (sources, glass shadow rays, mirrors as virtual sources) and an enum keeps
 //! a hit's material `Copy`-cheap with no virtual calls in the inner loop; each model still
-//! lives in its own file, as STYLE.md asks.
+//! lives in its own file, as docs/style.md asks.
 //!
 //! ## What the integrator must do around these functions
 //! - Direct light: for each source sample (direction `wi`, solid angle `omega`) add
