@@ -312,16 +312,7 @@ impl DataArray {
                 (i, i as f64 + (p - a) / (b - a))
             }
         };
-        let fi = i as f64;
-        let (mut c0, mut c1) = if x > fi + 2.0 {
-            let c0 = 1.0 / (fi - 1.0 - x);
-            (c0, -2.0 * c0)
-        } else if x < fi - 1.0 {
-            let c1 = 1.0 / (x - fi);
-            (-2.0 * c1, c1)
-        } else {
-            (fi + 1.0 - x, x - fi)
-        };
+        let (mut c0, mut c1) = data_interp_weights(i as f64, x);
         c0 *= coef;
         c1 *= coef;
         let i = i as usize;
@@ -354,6 +345,22 @@ impl DataArray {
             let y1 = self.values.get(at1).copied().unwrap_or(0.0);
             c0 * y0 + c1 * y1
         }
+    }
+}
+
+/// The two weights of Radiance's `data.c: data_interp` on one axis, for the lower node `i`
+/// of the division used and the fractional index `x`: linear between neighbours, linear
+/// extrapolation up to one division beyond the ends, then tapering to zero as 1/distance.
+/// One home for the rule: data files here, and the atmosphere tables of `sky::atmosphere`.
+pub fn data_interp_weights(i: f64, x: f64) -> (f64, f64) {
+    if x > i + 2.0 {
+        let c0 = 1.0 / (i - 1.0 - x);
+        (c0, -2.0 * c0)
+    } else if x < i - 1.0 {
+        let c1 = 1.0 / (x - i);
+        (-2.0 * c1, c1)
+    } else {
+        (i + 1.0 - x, x - i)
     }
 }
 

@@ -319,16 +319,7 @@ pub fn radiance_coefficients(x: f64, n: usize) -> (usize, f64, f64) {
     let top = n.saturating_sub(2) as i64;
     // C's (int) conversion truncates toward zero.
     let i = (x.trunc() as i64).clamp(0, top);
-    let fi = i as f64;
-    let (c0, c1) = if x > fi + 2.0 {
-        let c0 = 1.0 / (fi - 1.0 - x);
-        (c0, -2.0 * c0)
-    } else if x < fi - 1.0 {
-        let c1 = 1.0 / (x - fi);
-        (-2.0 * c1, c1)
-    } else {
-        (fi + 1.0 - x, x - fi)
-    };
+    let (c0, c1) = crate::scene::specdata::data_interp_weights(i as f64, x);
     (i as usize, c0, c1)
 }
 

@@ -126,6 +126,9 @@ impl SpecPictSky {
         let u = az / std::f64::consts::PI + 1.0;
         let v = 1.0 - d[2].clamp(-1.0, 1.0).acos() / std::f64::consts::PI;
         // Index space and the cell (clamped as data_interp does; inside [0, siz] always).
+        // Inside the range `data_interp`'s weights (`scene::specdata::data_interp_weights`)
+        // are these bilinear ones; they are written `1 - f` here, as this code always has,
+        // so genssky skies keep their exact bits.
         let cell = |t: f64, siz: f64, ne: usize| -> (usize, f64) {
             let x = t / siz * (ne - 1) as f64;
             let i = (x.floor().max(0.0) as usize).min(ne - 2);
