@@ -20,7 +20,7 @@
 //! computes per sensor; the tools are thin layers over these calls):
 //!
 //! ```
-//! use rdaylight::formats::sensors::Ray;
+//! use rdaylight::formats::sensors::SensorRay;
 //! use rdaylight::rdc::{Config, Sampling, Tracer};
 //! use rdaylight::scene::{self, LoadOptions};
 //!
@@ -31,7 +31,7 @@
 //! // Sky coefficients over the 145 Tregenza patches and the ground (146 columns).
 //! let config = Config::sky_coefficients(1, Sampling { ab: 2, ad: 1024, ..Sampling::default() });
 //! let tracer = Tracer::new(&config, &scene)?;
-//! let row = &tracer.compute(&[Ray::new([0.0, 0.0, 0.8], [0.0, 0.0, 1.0])])?[0];
+//! let row = &tracer.compute(&[SensorRay::new([0.0, 0.0, 0.8], [0.0, 0.0, 1.0])])?[0];
 //! assert_eq!(row.values.len(), 146 * 3);
 //! // Facing up under a sky of unit radiance, the sensor receives pi (W/m2 per W/sr/m2):
 //! // the coefficients of the sky patches (columns 1..146, red channel) sum to pi.

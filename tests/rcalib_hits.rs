@@ -232,14 +232,14 @@ fn fidelity_table() {
 #[ignore]
 fn explain_timing_20_sensors_50_steps() {
     use rdaylight::calib::effects::Effect;
-    use rdaylight::formats::sensors::{Ray, Sensor};
+    use rdaylight::formats::sensors::{Sensor, SensorRay};
     let (text, _) = room(RoomKind::Office);
     let mut sensors = Vec::new();
     for y in [1.0, 2.5, 4.0, 5.5, 7.0] {
         for x in [1.0, 2.3, 3.7, 5.0] {
             sensors.push(Sensor {
                 id: format!("s{:02}", sensors.len() + 1),
-                ray: Ray::new([x, y, 0.8], [0.0, 0.0, 1.0]),
+                ray: SensorRay::new([x, y, 0.8], [0.0, 0.0, 1.0]),
             });
         }
     }

@@ -7,7 +7,7 @@ mod common;
 use clap::Parser;
 use rdaylight::cli::rdc::{Options, radiance_args};
 use rdaylight::formats::matrix::{Matrix, MatrixReader, ReadOptions};
-use rdaylight::formats::sensors::Ray;
+use rdaylight::formats::sensors::SensorRay;
 use rdaylight::rdc::{Config, Sampling, Target, Tracer};
 use rdaylight::scene::{self, LoadOptions};
 
@@ -39,11 +39,11 @@ fn prepared_compute_equals_binary_output() {
     assert_eq!(opts.to_config().unwrap(), config);
     let scene = scene::load(&[room], &LoadOptions::default()).unwrap();
     let prepared = Tracer::new(&config, &scene).unwrap();
-    let rays: Vec<Ray> = sensors
+    let rays: Vec<SensorRay> = sensors
         .lines()
         .map(|l| {
             let v: Vec<f64> = l.split_whitespace().map(|x| x.parse().unwrap()).collect();
-            Ray::new([v[0], v[1], v[2]], [v[3], v[4], v[5]])
+            SensorRay::new([v[0], v[1], v[2]], [v[3], v[4], v[5]])
         })
         .collect();
     let rows = prepared.compute(&rays).unwrap();

@@ -26,7 +26,7 @@ mod common;
 use clap::Parser;
 use rdaylight::cli::rdc::{Options, radiance_args};
 use rdaylight::colour::cie::Observer;
-use rdaylight::formats::sensors::Ray;
+use rdaylight::formats::sensors::SensorRay;
 use rdaylight::formats::weather::Weather;
 use rdaylight::metrics::melanopic::{BandWeights, RADIANCE_SPAN_NM};
 use rdaylight::radiometry::Channels;
@@ -174,27 +174,27 @@ fn scene(mats: &[Material], v: Variant) -> String {
 
 /// Viewpoints: seated eye height 1.2 m, vertical, as the seed's head-pose view (Fig. 5.10),
 /// plus one upward work-plane sensor.
-fn viewpoints() -> Vec<(&'static str, Ray)> {
+fn viewpoints() -> Vec<(&'static str, SensorRay)> {
     vec![
         (
             "eye, mid-room, facing east (accent wall)",
-            Ray::new([3.0, 4.0, 1.2], [1.0, 0.0, 0.0]),
+            SensorRay::new([3.0, 4.0, 1.2], [1.0, 0.0, 0.0]),
         ),
         (
             "eye, mid-room, facing north (back wall)",
-            Ray::new([3.0, 4.0, 1.2], [0.0, 1.0, 0.0]),
+            SensorRay::new([3.0, 4.0, 1.2], [0.0, 1.0, 0.0]),
         ),
         (
             "eye, back of room, facing the window",
-            Ray::new([3.0, 6.5, 1.2], [0.0, -1.0, 0.0]),
+            SensorRay::new([3.0, 6.5, 1.2], [0.0, -1.0, 0.0]),
         ),
         (
             "eye, near window, facing west",
-            Ray::new([4.5, 2.0, 1.2], [-1.0, 0.0, 0.0]),
+            SensorRay::new([4.5, 2.0, 1.2], [-1.0, 0.0, 0.0]),
         ),
         (
             "work plane, mid-room, up",
-            Ray::new([3.0, 4.0, 0.8], [0.0, 0.0, 1.0]),
+            SensorRay::new([3.0, 4.0, 0.8], [0.0, 0.0, 1.0]),
         ),
     ]
 }
@@ -270,7 +270,7 @@ fn irradiance(
         rdaylight::scene::load(&opts.scene, &rdaylight::scene::LoadOptions::from_env()).unwrap();
     let prepared = Tracer::new(&opts.to_config().unwrap(), &scene).unwrap();
     assert_eq!(prepared.ncols(), sky.nrows());
-    let rays: Vec<Ray> = viewpoints().into_iter().map(|(_, r)| r).collect();
+    let rays: Vec<SensorRay> = viewpoints().into_iter().map(|(_, r)| r).collect();
     let rows = prepared.compute(&rays).unwrap();
     let nt = sky.ncols();
     let mut out = vec![vec![vec![0.0; NCS]; nt]; rays.len()];

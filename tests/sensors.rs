@@ -4,7 +4,8 @@
 mod common;
 
 use rdaylight::formats::sensors::{
-    Ray, RayFormat, RayReader, Sensor, read_csv, read_rays, work_plane_grid, write_csv, write_rays,
+    RayFormat, RayReader, Sensor, SensorRay, read_csv, read_rays, work_plane_grid, write_csv,
+    write_rays,
 };
 use std::io::Cursor;
 
@@ -12,12 +13,12 @@ fn data(name: &str) -> std::path::PathBuf {
     common::repo().join("tests/data/sensors").join(name)
 }
 
-fn sample() -> Vec<Ray> {
+fn sample() -> Vec<SensorRay> {
     vec![
-        Ray::new([0.0, 0.0, 0.8], [0.0, 0.0, 1.0]),
-        Ray::new([1.25, -2.5, 0.75], [0.0, 0.6, 0.8]),
-        Ray::new([1e-300, 123456.789, -0.1], [1.0, 0.0, 0.0]),
-        Ray::new([3.0, 4.0, 5.0], [0.0, 0.0, 0.0]),
+        SensorRay::new([0.0, 0.0, 0.8], [0.0, 0.0, 1.0]),
+        SensorRay::new([1.25, -2.5, 0.75], [0.0, 0.6, 0.8]),
+        SensorRay::new([1e-300, 123456.789, -0.1], [1.0, 0.0, 0.0]),
+        SensorRay::new([3.0, 4.0, 5.0], [0.0, 0.0, 0.0]),
     ]
 }
 
@@ -141,7 +142,10 @@ fn csv_sensors_round_trip_and_check_ids() {
     let sensors = read_csv(&text, "room.csv").unwrap();
     assert_eq!(sensors.len(), 2);
     assert_eq!(sensors[1].id, "wall_e");
-    assert_eq!(sensors[1].ray, Ray::new([3.9, 2.0, 1.2], [-1.0, 0.0, 0.0]));
+    assert_eq!(
+        sensors[1].ray,
+        SensorRay::new([3.9, 2.0, 1.2], [-1.0, 0.0, 0.0])
+    );
     let mut out = Vec::new();
     write_csv(&mut out, &sensors).unwrap();
     let back = read_csv(std::str::from_utf8(&out).unwrap(), "back.csv").unwrap();
@@ -206,9 +210,9 @@ fn rtrace_reads_our_sensor_files() {
     std::fs::write(&oct, octree).unwrap();
     // Coordinates that are exact in f32, so all three encodings carry identical rays.
     let mut rays = work_plane_grid([-1.0, -1.0], [1.0, 1.0], 0.0, 0.5).unwrap();
-    rays.push(Ray::new([0.25, 0.0, 0.0], [0.0, 0.0, 0.0])); // flush request
-    rays.push(Ray::new([0.5, 0.0, 0.0], [0.0, 0.6, 0.8])); // tilted towards +y
-    rays.push(Ray::new([0.0, 0.5, 0.0], [0.0, 0.0, 2.0])); // unnormalised
+    rays.push(SensorRay::new([0.25, 0.0, 0.0], [0.0, 0.0, 0.0])); // flush request
+    rays.push(SensorRay::new([0.5, 0.0, 0.0], [0.0, 0.6, 0.8])); // tilted towards +y
+    rays.push(SensorRay::new([0.0, 0.5, 0.0], [0.0, 0.0, 2.0])); // unnormalised
     let mut outputs = Vec::new();
     for (format, flag) in [
         (RayFormat::Ascii, "-faa"),

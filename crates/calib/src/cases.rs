@@ -23,7 +23,7 @@ use super::room::{Room, SurfaceClass};
 use super::session::{self, Options};
 use super::simulate::Settings;
 use crate::error::Result;
-use crate::formats::sensors::{Ray, Sensor};
+use crate::formats::sensors::{Sensor, SensorRay};
 use crate::formats::weather::{Site, WeaUnits, Weather, WeatherStep};
 use crate::scene::{LoadOptions, Scene, parse_str};
 use crate::sky::solar::{Site as SolarSite, SunPosition, day_of_year};
@@ -141,7 +141,7 @@ fn grid(xs: &[f64], ys: &[f64]) -> Vec<Sensor> {
         for x in xs {
             v.push(Sensor {
                 id: format!("s{:02}", v.len() + 1),
-                ray: Ray::new([*x, *y, 0.8], [0.0, 0.0, 1.0]),
+                ray: SensorRay::new([*x, *y, 0.8], [0.0, 0.0, 1.0]),
             });
         }
     }

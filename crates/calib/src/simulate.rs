@@ -291,7 +291,7 @@ pub struct Simulator {
     work: PathBuf,
     own_work: bool,
     sensors_text: String,
-    rays: Vec<crate::formats::sensors::Ray>,
+    rays: Vec<crate::formats::sensors::SensorRay>,
     /// `.wea` of the measured steps.
     suns_wea: String,
     nsteps: usize,

@@ -15,7 +15,7 @@
 //!
 //! A zero direction `(0, 0, 0)` is rtrace's "flush" request: it prints an empty record
 //! (zeros) and flushes its output (`rtrace()`, `bogusray()`). We keep such records as ordinary
-//! [`Ray`]s with [`Ray::is_flush`] true, so a consumer can emit its own empty record and keep
+//! [`SensorRay`]s with [`SensorRay::is_flush`] true, so a consumer can emit its own empty record and keep
 //! output records aligned one-to-one with input rays, as rtrace does.
 //!
 //! Also here: [`work_plane_grid`] (a regular grid of upward sensors over a rectangle) and the
@@ -32,16 +32,16 @@ use nom::{
 };
 use std::io::{BufRead, Read, Write};
 
-/// One sensor or ray: origin and direction (not necessarily normalised; rtrace normalises).
+/// One sensor (a ray record): origin and direction (not necessarily normalised; rtrace normalises).
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Ray {
+pub struct SensorRay {
     pub org: [f64; 3],
     pub dir: [f64; 3],
 }
 
-impl Ray {
-    pub fn new(org: [f64; 3], dir: [f64; 3]) -> Ray {
-        Ray { org, dir }
+impl SensorRay {
+    pub fn new(org: [f64; 3], dir: [f64; 3]) -> SensorRay {
+        SensorRay { org, dir }
     }
 
     /// A zero direction: rtrace's flush request, answered with an empty record.
@@ -55,8 +55,8 @@ impl Ray {
         [x, y, z, dx, dy, dz]
     }
 
-    fn from_values(v: [f64; 6]) -> Ray {
-        Ray {
+    fn from_values(v: [f64; 6]) -> SensorRay {
+        SensorRay {
             org: [v[0], v[1], v[2]],
             dir: [v[3], v[4], v[5]],
         }
@@ -122,7 +122,7 @@ impl<R: BufRead> RayReader<R> {
         }
     }
 
-    fn next_ascii(&mut self) -> Option<Result<Ray>> {
+    fn next_ascii(&mut self) -> Option<Result<SensorRay>> {
         loop {
             self.buf.clear();
             let n = match (&mut self.inner)
@@ -158,7 +158,7 @@ impl<R: BufRead> RayReader<R> {
         }
     }
 
-    fn next_binary(&mut self, size: usize) -> Option<Result<Ray>> {
+    fn next_binary(&mut self, size: usize) -> Option<Result<SensorRay>> {
         let mut rec = [0u8; 48];
         let rec = &mut rec[..size];
         let mut got = 0;
@@ -207,14 +207,14 @@ impl<R: BufRead> RayReader<R> {
                 ),
             )));
         }
-        Some(Ok(Ray::from_values(v)))
+        Some(Ok(SensorRay::from_values(v)))
     }
 }
 
 impl<R: BufRead> Iterator for RayReader<R> {
-    type Item = Result<Ray>;
+    type Item = Result<SensorRay>;
 
-    fn next(&mut self) -> Option<Result<Ray>> {
+    fn next(&mut self) -> Option<Result<SensorRay>> {
         if self.done {
             return None;
         }
@@ -251,7 +251,7 @@ fn number(word: &str) -> Option<f64> {
 }
 
 /// One ascii line: `Ok(None)` for a blank line.
-fn parse_ascii_line(line: &str) -> std::result::Result<Option<Ray>, String> {
+fn parse_ascii_line(line: &str) -> std::result::Result<Option<SensorRay>, String> {
     let (rest, w) = words(line).map_err(|_| "unreadable line".to_string())?;
     if !rest.trim().is_empty() {
         return Err("unreadable line".to_string());
@@ -275,7 +275,7 @@ fn parse_ascii_line(line: &str) -> std::result::Result<Option<Ray>, String> {
             w.len()
         ));
     }
-    Ok(Some(Ray::from_values(v)))
+    Ok(Some(SensorRay::from_values(v)))
 }
 
 fn shorten(s: &str) -> String {
@@ -288,7 +288,7 @@ fn shorten(s: &str) -> String {
 }
 
 /// Read every ray of a stream.
-pub fn read_rays<R: BufRead>(r: R, file: &str, format: RayFormat) -> Result<Vec<Ray>> {
+pub fn read_rays<R: BufRead>(r: R, file: &str, format: RayFormat) -> Result<Vec<SensorRay>> {
     RayReader::new(r, file, format).collect()
 }
 
@@ -308,7 +308,7 @@ pub fn format_number(v: f64) -> String {
 /// floats/doubles. Float output rounds to f32, as rtrace's `-ff` input would anyway.
 pub fn write_ray<W: Write + ?Sized>(
     w: &mut W,
-    ray: &Ray,
+    ray: &SensorRay,
     format: RayFormat,
 ) -> std::io::Result<()> {
     let v = ray.values();
@@ -337,7 +337,7 @@ pub fn write_ray<W: Write + ?Sized>(
 /// Write all rays.
 pub fn write_rays<W: Write + ?Sized>(
     w: &mut W,
-    rays: &[Ray],
+    rays: &[SensorRay],
     format: RayFormat,
 ) -> std::io::Result<()> {
     rays.iter().try_for_each(|r| write_ray(w, r, format))
@@ -353,7 +353,12 @@ pub const MAX_GRID_POINTS: usize = 10_000_000;
 /// the grid is centred in the rectangle, so when the spacing divides the length the points
 /// are the centres of square cells (a 4 m side at 1 m spacing gives 0.5, 1.5, 2.5, 3.5).
 /// Order: rows of increasing y, each of increasing x.
-pub fn work_plane_grid(min: [f64; 2], max: [f64; 2], z: f64, spacing: f64) -> Result<Vec<Ray>> {
+pub fn work_plane_grid(
+    min: [f64; 2],
+    max: [f64; 2],
+    z: f64,
+    spacing: f64,
+) -> Result<Vec<SensorRay>> {
     if !(spacing.is_finite() && spacing > 0.0) {
         return Err(Error::Usage(format!(
             "grid spacing must be a positive number, found {spacing}"
@@ -389,7 +394,7 @@ pub fn work_plane_grid(min: [f64; 2], max: [f64; 2], z: f64, spacing: f64) -> Re
     let mut rays = Vec::with_capacity(nx * ny);
     for j in 0..ny {
         for i in 0..nx {
-            rays.push(Ray::new(
+            rays.push(SensorRay::new(
                 [x0 + i as f64 * spacing, y0 + j as f64 * spacing, z],
                 [0.0, 0.0, 1.0],
             ));
@@ -402,7 +407,7 @@ pub fn work_plane_grid(min: [f64; 2], max: [f64; 2], z: f64, spacing: f64) -> Re
 #[derive(Debug, Clone, PartialEq)]
 pub struct Sensor {
     pub id: String,
-    pub ray: Ray,
+    pub ray: SensorRay,
 }
 
 /// The CSV header line, compared without regard to case or blanks around names.
@@ -487,7 +492,7 @@ pub fn read_csv(text: &str, file: &str) -> Result<Vec<Sensor>> {
         }
         sensors.push(Sensor {
             id: id.to_string(),
-            ray: Ray::from_values(v),
+            ray: SensorRay::from_values(v),
         });
     }
     if !header_seen {
@@ -524,7 +529,7 @@ mod tests {
     #[test]
     fn ascii_lines() {
         let r = parse_ascii_line("1 2 3\t0 0 1\r\n").unwrap().unwrap();
-        assert_eq!(r, Ray::new([1.0, 2.0, 3.0], [0.0, 0.0, 1.0]));
+        assert_eq!(r, SensorRay::new([1.0, 2.0, 3.0], [0.0, 0.0, 1.0]));
         assert_eq!(parse_ascii_line("  \r\n").unwrap(), None);
         assert_eq!(
             parse_ascii_line("1 2 3 0 0").unwrap_err(),

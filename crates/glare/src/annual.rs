@@ -68,7 +68,7 @@ use super::pixels::{V3, dot};
 use super::posindex::{self, PosModel};
 use super::viewrays::ViewRays;
 use crate::error::{Error, Result};
-use crate::formats::sensors::Ray;
+use crate::formats::sensors::SensorRay;
 use crate::formats::weather::Weather;
 use crate::radiometry::Channels;
 use crate::radiometry::{RGB_PHOTOPIC, WHITE_EFFICACY};
@@ -181,8 +181,8 @@ pub fn coefficients(
         irradiance: false,
         ..base.clone()
     };
-    let ray_list: Vec<Ray> = (0..rays.len())
-        .map(|i| Ray::new(rays.org[i], rays.dir[i]))
+    let ray_list: Vec<SensorRay> = (0..rays.len())
+        .map(|i| SensorRay::new(rays.org[i], rays.dir[i]))
         .collect();
     progress("view-ray sky coefficients");
     let total = Tracer::new(&sky, scene)?.compute(&ray_list)?;
@@ -191,7 +191,7 @@ pub fn coefficients(
     progress("view-ray direct coefficients (-ab 0)");
     let straight = Tracer::new(&direct, scene)?.compute(&ray_list)?;
     let vdir = rays.camera.dir();
-    let eye = [Ray::new(rays.camera.view().vp, vdir)];
+    let eye = [SensorRay::new(rays.camera.view().vp, vdir)];
     let mut eye_cfg = Config {
         irradiance: true,
         ..sky.clone()

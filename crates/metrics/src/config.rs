@@ -12,7 +12,7 @@
 
 use crate::annual::column_names;
 use crate::error::{Error, Result};
-use crate::formats::sensors::{Ray, RayFormat, read_rays};
+use crate::formats::sensors::{RayFormat, SensorRay, read_rays};
 use crate::melanopic::{DailyRule, Quantity, Summary};
 use crate::schedule::{ScheduleSpec, Stamp, parse_range};
 use crate::{LuxRows, Thresholds, compare, map, melanopic, report, schedule};
@@ -87,7 +87,7 @@ pub fn write_out(
 }
 
 /// Sensor rays (rtrace ascii `x y z dx dy dz`) from `path`.
-pub fn read_points(path: &str) -> Result<Vec<Ray>> {
+pub fn read_points(path: &str) -> Result<Vec<SensorRay>> {
     let f = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
     read_rays(std::io::BufReader::new(f), path, RayFormat::Ascii)
 }

@@ -10,7 +10,7 @@
 use super::Results;
 use super::annual::{Thresholds, column_names};
 use crate::error::{Error, Location, Result};
-use crate::formats::sensors::Ray;
+use crate::formats::sensors::SensorRay;
 use serde::Serialize;
 use std::collections::BTreeMap;
 use std::io::Write;
@@ -63,7 +63,7 @@ pub fn write_tsv(
     input: &str,
     res: &Results,
     t: &Thresholds,
-    positions: Option<&[Ray]>,
+    positions: Option<&[SensorRay]>,
 ) -> Result<()> {
     let io = |e| Error::io("<output>", e);
     for l in header_lines(input, res, t) {
@@ -120,7 +120,7 @@ pub fn write_json(
     input: &str,
     res: &Results,
     t: &Thresholds,
-    positions: Option<&[Ray]>,
+    positions: Option<&[SensorRay]>,
 ) -> Result<()> {
     let room = column_names(res.with_ase)
         .into_iter()

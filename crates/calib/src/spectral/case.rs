@@ -52,7 +52,7 @@ pub fn window_control(room: &crate::room::Room) -> Option<Sensor> {
     let z = (0.5 * (w.sill + w.head)).min(1.65);
     Some(Sensor {
         id: "control".into(),
-        ray: crate::formats::sensors::Ray::new(
+        ray: crate::formats::sensors::SensorRay::new(
             [w.centroid[0] - 0.25 * o[0], w.centroid[1] - 0.25 * o[1], z],
             [o[0], o[1], 0.0],
         ),

@@ -10,7 +10,7 @@ use std::f64::consts::PI;
 
 /// One view ray.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Ray {
+pub struct ViewRay {
     /// Origin: the view point moved to the fore clipping plane/sphere (`-vo`).
     pub org: [f64; 3],
     /// Unit direction.
@@ -217,7 +217,7 @@ impl Camera {
     /// Ray through image point `(x, y)`, origin bottom left, `[0,1]²` covering the image
     /// (values outside extend the view). `None` outside a fisheye's circle (Radiance's
     /// `viewray` returning −1; `vwrays` writes a zero ray there).
-    pub fn view_ray(&self, x: f64, y: f64) -> Option<Ray> {
+    pub fn view_ray(&self, x: f64, y: f64) -> Option<ViewRay> {
         let v = &self.view;
         let x = x + v.vs - 0.5;
         let y = y + v.vl - 0.5;
@@ -236,7 +236,7 @@ impl Camera {
                     add(v.vp, scale(self.vdir, v.vo)),
                     add(scale(self.hvec, x), scale(self.vvec, y)),
                 );
-                Some(Ray {
+                Some(ViewRay {
                     org,
                     dir: self.vdir,
                     max_dist: aft,
@@ -253,7 +253,7 @@ impl Camera {
                 // (perspective) or a cylinder (panorama), not a sphere.
                 let org = from_eye(dir);
                 let len = normalize(&mut dir);
-                Some(Ray {
+                Some(ViewRay {
                     org,
                     dir,
                     max_dist: aft.map(|a| a * len),
@@ -265,7 +265,7 @@ impl Camera {
                     return None;
                 }
                 let dir = along(z.sqrt(), x, y);
-                Some(Ray {
+                Some(ViewRay {
                     org: from_eye(dir),
                     dir,
                     max_dist: aft,
@@ -286,7 +286,7 @@ impl Camera {
                     (1.0 - z * z).sqrt() / d
                 };
                 let dir = along(z, x * s, y * s);
-                Some(Ray {
+                Some(ViewRay {
                     org: from_eye(dir),
                     dir,
                     max_dist: aft,
@@ -298,7 +298,7 @@ impl Camera {
                 let d = x * x + y * y;
                 let z = (1.0 - d) / (1.0 + d);
                 let dir = along(z, x * (1.0 + z), y * (1.0 + z));
-                Some(Ray {
+                Some(ViewRay {
                     org: from_eye(dir),
                     dir,
                     max_dist: aft,
@@ -317,7 +317,7 @@ impl Camera {
 
     /// Ray through the centre of pixel `(px, py)`, row 0 at the top (the order `vwrays`
     /// writes and rpict renders). `None` outside the view or outside the picture.
-    pub fn pixel_ray(&self, px: usize, py: usize, xres: usize, yres: usize) -> Option<Ray> {
+    pub fn pixel_ray(&self, px: usize, py: usize, xres: usize, yres: usize) -> Option<ViewRay> {
         if px >= xres || py >= yres {
             return None;
         }

@@ -20,7 +20,7 @@ use super::traced::Traced;
 use super::tracer::{Estimator, Mode, Quantity, Query, Rng, Stratum, SunDisc, Tally, record_rng};
 use crate::error::{Error, Location, Result};
 use crate::formats::matrix::DataFormat;
-use crate::formats::sensors::{Ray, RayFormat, RayReader};
+use crate::formats::sensors::{RayFormat, RayReader, SensorRay};
 use crate::formats::view::{Camera, View};
 use crate::geometry::vec3::normalized;
 use crate::material::ShadingOptions;
@@ -156,12 +156,12 @@ impl Job<'_> {
 ///
 /// ```no_run
 /// use rdaylight_formats::scene::{self, LoadOptions};
-/// use rdaylight_formats::sensors::Ray;
+/// use rdaylight_formats::sensors::SensorRay;
 /// use rdaylight_trace::rdc::{Config, Sampling, Tracer};
 /// let scene = scene::load(&["room.rad"], &LoadOptions::default())?;
 /// let config = Config::sky_coefficients(1, Sampling { ab: 3, ad: 512, ..Sampling::default() });
 /// let tracer = Tracer::new(&config, &scene)?;
-/// let rows = tracer.compute(&[Ray::new([3.0, 2.0, 0.8], [0.0, 0.0, 1.0])])?;
+/// let rows = tracer.compute(&[SensorRay::new([3.0, 2.0, 0.8], [0.0, 0.0, 1.0])])?;
 /// assert_eq!(rows[0].values.len(), 146 * 3);
 /// # Ok::<(), rdaylight_base::Error>(())
 /// ```
@@ -305,10 +305,10 @@ impl Tracer {
     /// config says so) of sky coefficients, sun coefficients or point-in-time values; each
     /// [`RecordResult`] holds `ncols * ncomp` values (columns outer). Record `i` is seeded as
     /// row `i` of the `rdc` tool, so the numbers equal its output.
-    pub fn compute(&self, rays: &[Ray]) -> Result<Vec<RecordResult>> {
+    pub fn compute(&self, rays: &[SensorRay]) -> Result<Vec<RecordResult>> {
         let job = self.job();
         let irradiance = self.config.irradiance;
-        let query = move |r: &Ray, _: &mut Rng| sensor_query(r, irradiance);
+        let query = move |r: &SensorRay, _: &mut Rng| sensor_query(r, irradiance);
         let pool = self.pool()?;
         Ok(pool.install(|| {
             let mut out = Vec::with_capacity(rays.len());
@@ -501,7 +501,7 @@ pub fn sun_discs(suns: &SunSource, angle: f64) -> Result<Vec<SunDisc>> {
 
 /// The sensor's query: `-I` moves the origin 1.1e-4 along the normal (rcontrib's
 /// `eval_irrad`); a zero direction (rtrace's flush) gives an empty record.
-fn sensor_query(ray: &Ray, irradiance: bool) -> Option<Query> {
+fn sensor_query(ray: &SensorRay, irradiance: bool) -> Option<Query> {
     if ray.is_flush() {
         return None;
     }
@@ -567,10 +567,10 @@ pub fn sensors<R: BufRead, W: Write>(
 ) -> Result<()> {
     let (command, format) = (&run.command, run.output);
     let irradiance = run.config.irradiance;
-    let query = move |r: &Ray, _: &mut Rng| sensor_query(r, irradiance);
+    let query = move |r: &SensorRay, _: &mut Rng| sensor_query(r, irradiance);
     // Without -y the sensors are read first (their count goes in NROWS); with -y they
     // stream and the count is checked at the end.
-    let mut pending: Vec<Ray> = Vec::new();
+    let mut pending: Vec<SensorRay> = Vec::new();
     let nrows = match run.y {
         Some(y) => y,
         None => {
