@@ -377,7 +377,7 @@ fn bad_inputs_are_one_line_errors() {
 #[test]
 fn open_sky_looking_up_gives_the_horizontal_illuminance() {
     use rdaylight::formats::weather::Weather;
-    use rdaylight::sky::matrix::{radiance_site, time_steps};
+    use rdaylight::sky::matrix::time_steps;
     use rdaylight::sky::{PerezOptions, SkyPatches, perez_sky_vector};
     let dir = common::tmpdir();
     let empty = dir.path().join("empty.rad");
@@ -401,11 +401,11 @@ fn open_sky_looking_up_gives_the_horizontal_illuminance() {
     );
     let rows = parse_rows(&String::from_utf8(out.stdout).unwrap());
     let w = Weather::read_path(fixtures().join("glare/annual/hours.wea")).unwrap();
-    let site = radiance_site(&w);
+    let site = &w.site;
     let patches = SkyPatches::new(1);
     let mut worst: f64 = 0.0;
     for (r, s) in rows.iter().zip(time_steps(&w)) {
-        let v = perez_sky_vector(&patches, &s, &site, &PerezOptions::default());
+        let v = perez_sky_vector(&patches, &s, site, &PerezOptions::default());
         let st = v.state.unwrap();
         let alt = v.sun_position.altitude;
         let sun = if alt > 0.0 && st.dir_illum > 1e-4 {

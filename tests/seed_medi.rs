@@ -32,7 +32,7 @@ use rdaylight::metrics::melanopic::{BandWeights, RADIANCE_SPAN_NM};
 use rdaylight::radiometry::Channels;
 use rdaylight::rdc::Tracer;
 use rdaylight::sky::SkyPatches;
-use rdaylight::sky::matrix::{Colours, MatrixOptions, radiance_site, time_steps};
+use rdaylight::sky::matrix::{Colours, MatrixOptions, time_steps};
 use rdaylight::sky::perez::TimeStep;
 use rdaylight::sky::spectral::spectral_sky_matrix;
 use rdaylight::uplift::basis::{colorchecker, munsell};
@@ -329,7 +329,7 @@ fn simulate() -> Results {
     let sky = spectral_sky_matrix(
         &SkyPatches::new(1),
         &steps(&w),
-        &radiance_site(&w),
+        &w.site,
         &opts,
         &ch,
         &|_, _| {},

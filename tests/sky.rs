@@ -6,9 +6,21 @@ mod common;
 
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg64;
+use rdaylight::formats::weather::Site;
 use rdaylight::sky::patches::SkyPatches;
-use rdaylight::sky::solar::{LeapDayTracker, Site, SunPosition, day_of_year};
+use rdaylight::sky::solar::{LeapDayTracker, SunPosition, day_of_year};
 use std::f64::consts::PI;
+
+/// A site given as gensky's `-a lat -o lon -m meridian` (longitude and meridian in degrees
+/// west), converted once into the east-positive [`Site`].
+fn west(latitude: f64, longitude_west: f64, meridian_west: f64) -> Site {
+    Site {
+        latitude_deg_n: latitude,
+        longitude_deg_e: -longitude_west,
+        meridian_deg_e: -meridian_west,
+        ..Site::default()
+    }
+}
 
 /// Parse whitespace-separated numbers, one row per line, skipping blank lines.
 fn numbers(text: &[u8]) -> Vec<Vec<f64>> {
@@ -305,11 +317,7 @@ fn live_solar_position_matches_gensky() {
     if !common::have_radiance("live_solar_position_matches_gensky") {
         return;
     }
-    let site = Site {
-        latitude: 51.15,
-        longitude_west: 0.18,
-        meridian_west: 0.0,
-    };
+    let site = west(51.15, 0.18, 0.0);
     let mut rng = Pcg64::seed_from_u64(5);
     let (mut dang, mut ddir, mut ndir) = (0f64, 0f64, 0);
     for k in 0..50 {
@@ -463,11 +471,7 @@ fn live_cie_description_matches_gensky() {
     if !common::have_radiance("live_cie_description_matches_gensky") {
         return;
     }
-    let site = Site {
-        latitude: 51.15,
-        longitude_west: 0.18,
-        meridian_west: 0.0,
-    };
+    let site = west(51.15, 0.18, 0.0);
     let mut site_args = vec!["-a", "51.15", "-o", "0.18", "-m", "0"];
     let mut exact = 0;
     let cases = gensky_cases();
@@ -842,11 +846,11 @@ fn our_gendaymtx(
     recs: &[WeaRecord],
     scale: f64,
 ) -> Vec<Vec<[f64; 3]>> {
-    let site = Site {
-        latitude: header_value(header, "latitude"),
-        longitude_west: header_value(header, "longitude"),
-        meridian_west: header_value(header, "time_zone"),
-    };
+    let site = west(
+        header_value(header, "latitude"),
+        header_value(header, "longitude"),
+        header_value(header, "time_zone"),
+    );
     let patches = SkyPatches::new(v.mf);
     let mut leap = LeapDayTracker::new();
     recs.iter()
@@ -929,11 +933,11 @@ fn live_perez_matches_gendaymtx_full_year() {
     let real = real_gendaymtx(&v.args, &wea);
     let ours = our_gendaymtx(&v, &header, InputUnits::DirectNormalIrradiance, &recs, 1.0);
     // Which clearness categories did the year exercise?
-    let site = Site {
-        latitude: header_value(&header, "latitude"),
-        longitude_west: header_value(&header, "longitude"),
-        meridian_west: header_value(&header, "time_zone"),
-    };
+    let site = west(
+        header_value(&header, "latitude"),
+        header_value(&header, "longitude"),
+        header_value(&header, "time_zone"),
+    );
     let p = SkyPatches::new(1);
     let mut cats = [0usize; 8];
     for &(m, d, h, dir, dif) in &recs {
@@ -988,11 +992,7 @@ fn live_perezlum_matches_perezlum_cal() {
         let sun_dir = [a[7], a[8], a[9]];
         // The sun direction is gensky's for the same date/time.
         let pos = SunPosition::gensky(
-            &Site {
-                latitude: 51.15,
-                longitude_west: 0.18,
-                meridian_west: 0.0,
-            },
+            &west(51.15, 0.18, 0.0),
             cond[0].parse().unwrap(),
             cond[1].parse().unwrap(),
             cond[2].parse().unwrap(),
@@ -1027,9 +1027,10 @@ fn live_perez_matches_gendaymtx_reading_epw_with_dew_point() {
     let lines: Vec<&str> = text.lines().collect();
     let loc: Vec<&str> = lines[0].split(',').collect();
     let site = Site {
-        latitude: loc[6].trim().parse().unwrap(),
-        longitude_west: -loc[7].trim().parse::<f64>().unwrap(),
-        meridian_west: -15.0 * loc[8].trim().parse::<f64>().unwrap(),
+        latitude_deg_n: loc[6].trim().parse().unwrap(),
+        longitude_deg_e: loc[7].trim().parse().unwrap(),
+        meridian_deg_e: Site::meridian_from_hours(loc[8].trim().parse().unwrap()),
+        ..Site::default()
     };
     let patches = SkyPatches::new(1);
     let mut dew = DewPointMean::new();
@@ -1070,11 +1071,7 @@ fn live_perez_matches_gendaymtx_reading_epw_with_dew_point() {
 fn solar_position_closed_forms() {
     // jd 81 (22 March) has declination exactly 0; at solar noon the sun is due south at
     // altitude 90 - latitude, and at solar 6:00 it rises due east.
-    let site = Site {
-        latitude: 51.15,
-        longitude_west: 0.18,
-        meridian_west: 0.0,
-    };
+    let site = west(51.15, 0.18, 0.0);
     assert_eq!(rdaylight::sky::solar::declination(81), 0.0);
     let noon = SunPosition::from_declination(&site, 0.0, 12.0);
     assert!((noon.altitude.to_degrees() - (90.0 - 51.15)).abs() < 1e-12);
@@ -1095,11 +1092,7 @@ fn perez_vector_reproduces_its_illuminances() {
     // By construction: the sky patches integrate (cosine-weighted) to the diffuse horizontal
     // illuminance, the sun patches (radiance x solid angle) to the direct normal
     // illuminance, and the ground is the global horizontal illuminance / pi, all / 179.
-    let site = Site {
-        latitude: 51.15,
-        longitude_west: 0.18,
-        meridian_west: 0.0,
-    };
+    let site = west(51.15, 0.18, 0.0);
     for mf in [1, 2] {
         let p = SkyPatches::new(mf);
         for (m, d, h, dir, dif) in [
@@ -1205,11 +1198,7 @@ fn live_gendaylit_arguments_match_gendaylit() {
         return;
     }
     use GendaylitInput::*;
-    let site = Site {
-        latitude: 51.15,
-        longitude_west: 0.18,
-        meridian_west: 0.0,
-    };
+    let site = west(51.15, 0.18, 0.0);
     // (command line, date or -ang, options)
     let w = |d, f| DirectNormalIrradiance {
         direct: d,

@@ -14,13 +14,13 @@
 
 mod common;
 use rdaylight::formats::picture::Picture;
+use rdaylight::formats::weather::Site;
 use rdaylight::sky::atmosphere::MieProfile;
 use rdaylight::sky::atmosphere::cache::{self, CacheStatus};
 use rdaylight::sky::genssky::{
     GensskyOptions, Hour, SpectralSky, cct, horizontal_irradiance, photopic, region_mean,
     spectral_sky,
 };
-use rdaylight::sky::solar::Site;
 use std::path::PathBuf;
 
 const NSSAMP: usize = 20;
@@ -118,10 +118,12 @@ impl Case {
     fn options(&self) -> GensskyOptions {
         let mut o =
             GensskyOptions::new(self.when.0, self.when.1, Hour::parse(self.when.2).unwrap());
+        // The cases give genssky's `-o`/`-m` (degrees west); the site is east positive.
         o.site = Site {
-            latitude: self.lat,
-            longitude_west: self.lon,
-            meridian_west: self.mer,
+            latitude_deg_n: self.lat,
+            longitude_deg_e: -self.lon,
+            meridian_deg_e: -self.mer,
+            ..Site::default()
         };
         o.aod = self.aod;
         o.cloud_cover = self.cloud;

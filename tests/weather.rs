@@ -146,7 +146,7 @@ fn epw_reader_agrees_with_epw2wea_row_by_row() {
     assert_eq!(wea.site.country, "GBR");
     assert_eq!(wea.site.latitude_deg_n, epw.site.latitude_deg_n);
     assert_eq!(wea.site.longitude_deg_e, epw.site.longitude_deg_e);
-    assert_eq!(wea.site.time_zone_hours_e, epw.site.time_zone_hours_e);
+    assert_eq!(wea.site.time_zone_hours_e(), epw.site.time_zone_hours_e());
     assert_eq!(wea.site.elevation_m, epw.site.elevation_m);
     for (i, (a, b)) in wea.steps.iter().zip(&epw.steps).enumerate() {
         assert_eq!((a.month, a.day), (b.month, b.day), "row {i}");
@@ -255,7 +255,7 @@ fn wea_round_trips_exactly() {
     // Steps without the optional columns get the EPW missing codes.
     assert_eq!(back.steps[0].aod, Some(0.999));
     assert_eq!(w.site.longitude_deg_e, -122.4);
-    assert_eq!(w.site.time_zone_hours_e, -8.0);
+    assert_eq!(w.site.time_zone_hours_e(), -8.0);
 }
 
 fn err(text: &str, file: &str) -> String {

@@ -19,13 +19,13 @@
 
 use crate::error::{Error, Result};
 use crate::formats::matrix::DataFormat;
+use crate::formats::weather::Site;
 use crate::sky::config::point::parse_date;
 use crate::sky::config::{
     Bands, ColourEdit, GensskyConfig, Messages, PointSkyConfig, PointSkyInput, SkyMatrixConfig,
     SkyModel,
 };
 use crate::sky::genssky::{GensskyOptions, Hour};
-use crate::sky::solar;
 use clap::{CommandFactory, FromArgMatches, Parser};
 
 pub const EXAMPLES: &str = "\
@@ -447,10 +447,12 @@ impl Options {
                 else {
                     return Err(Error::Usage("-W needs -a lat -o lon -m meridian".into()));
                 };
-                let site = solar::Site {
-                    latitude: lat,
-                    longitude_west: lon,
-                    meridian_west: mer,
+                // gendaylit's `-o`/`-m` are degrees west; the site is east positive.
+                let site = Site {
+                    latitude_deg_n: lat,
+                    longitude_deg_e: -lon,
+                    meridian_deg_e: -mer,
+                    ..Site::default()
                 };
                 Ok(PointSkyInput::Irradiance {
                     direct: wv[0],
@@ -477,14 +479,15 @@ pub fn genssky_config(args: Vec<String>) -> Result<GensskyConfig> {
     let month = whole(&g.month, "month")?;
     let day = whole(&g.day, "day")?;
     let mut o = GensskyOptions::new(month, day, Hour::parse(&g.hour)?);
+    // genssky's `-o`/`-m` are degrees west (gensky's convention); the site is east positive.
     if let Some(a) = g.latitude {
-        o.site.latitude = a;
+        o.site.latitude_deg_n = a;
     }
     if let Some(v) = g.longitude {
-        o.site.longitude_west = v;
+        o.site.longitude_deg_e = -v;
     }
     if let Some(v) = g.meridian {
-        o.site.meridian_west = v;
+        o.site.meridian_deg_e = -v;
     }
     o.year = g.year;
     o.aod = g.aod;

@@ -26,7 +26,7 @@ use crate::error::Result;
 use crate::formats::sensors::{Sensor, SensorRay};
 use crate::formats::weather::{Site, WeaUnits, Weather, WeatherStep};
 use crate::scene::{LoadOptions, Scene, parse_str};
-use crate::sky::solar::{Site as SolarSite, SunPosition, day_of_year};
+use crate::sky::solar::{SunPosition, day_of_year};
 use rand::{Rng, SeedableRng};
 
 /// Per-sensor calibration spread and per-reading noise (relative, log-normal).
@@ -224,13 +224,8 @@ pub fn sunny_weather() -> Weather {
         country: "ESP".into(),
         latitude_deg_n: 40.4,
         longitude_deg_e: -3.7,
-        time_zone_hours_e: 1.0,
+        meridian_deg_e: 15.0,
         elevation_m: 650.0,
-    };
-    let solar = SolarSite {
-        latitude: 40.4,
-        longitude_west: 3.7,
-        meridian_west: -15.0,
     };
     let mut steps = Vec::new();
     let mut n = 0usize;
@@ -240,7 +235,7 @@ pub fn sunny_weather() -> Weather {
             let overcast = n % 4 == 0;
             for h in 7..=18 {
                 let hour = h as f64 + 0.5;
-                let pos = SunPosition::at(&solar, day_of_year(month.into(), day.into()), hour);
+                let pos = SunPosition::at(&site, day_of_year(month.into(), day.into()), hour);
                 let sa = pos.altitude.sin();
                 let (dni, dhi) = if sa <= 0.02 {
                     (0.0, 0.0)

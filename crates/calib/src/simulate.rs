@@ -47,7 +47,7 @@ use crate::rdc::config::SUN_ANGLE_DEG;
 use crate::rdc::{Adaptive, Config, RecordResult, Reweight, Sampling, SunSource, Target};
 use crate::scene::Scene;
 use crate::scene::{LoadOptions, Primitive};
-use crate::sky::matrix::{radiance_site, time_steps};
+use crate::sky::matrix::time_steps;
 use crate::sky::perez::{
     GENDAYMTX_GROUND_REFLECTANCE, GENDAYMTX_SKY_COLOUR, PerezOptions, perez_sky_vector,
 };
@@ -167,7 +167,7 @@ pub struct StepSky {
 pub fn step_skies(w: &Weather, idx: &[usize], mf: usize) -> Vec<StepSky> {
     let patches = SkyPatches::new(mf);
     let steps = time_steps(w);
-    let site = radiance_site(w);
+    let site = &w.site;
     let smear = PerezOptions::default();
     let disc = PerezOptions {
         five_phase_sun_deg: Some(0.533),
@@ -177,9 +177,9 @@ pub fn step_skies(w: &Weather, idx: &[usize], mf: usize) -> Vec<StepSky> {
     idx.iter()
         .filter_map(|&i| steps.get(i))
         .map(|st| {
-            let v = perez_sky_vector(&patches, st, &site, &smear);
-            let v5 = perez_sky_vector(&patches, st, &site, &disc);
-            let pos = SunPosition::at(&site, st.jd, st.hour);
+            let v = perez_sky_vector(&patches, st, site, &smear);
+            let v5 = perez_sky_vector(&patches, st, site, &disc);
+            let pos = SunPosition::at(site, st.jd, st.hour);
             StepSky {
                 month: st.month,
                 day: st.day,

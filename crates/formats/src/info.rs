@@ -239,7 +239,7 @@ pub fn describe_weather(w: &Weather, name: &str) -> String {
         site.country,
         site.latitude_deg_n,
         site.longitude_deg_e,
-        site.time_zone_hours_e,
+        site.time_zone_hours_e(),
         site.elevation_m
     );
     let (Some(first), Some(last)) = (w.steps.first(), w.steps.last()) else {

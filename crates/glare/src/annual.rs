@@ -75,7 +75,7 @@ use crate::radiometry::{RGB_PHOTOPIC, WHITE_EFFICACY};
 use crate::rdc::config::{MAX_MF, SUN_ANGLE_DEG};
 use crate::rdc::{Config, SunSource, Target, Tracer};
 use crate::scene::Scene;
-use crate::sky::matrix::{radiance_site, time_steps};
+use crate::sky::matrix::time_steps;
 use crate::sky::perez::{GENDAYMTX_GROUND_REFLECTANCE, GENDAYMTX_SKY_COLOUR, PerezOptions};
 use crate::sky::{SkyPatches, perez::perez_sky_vector};
 use rayon::prelude::*;
@@ -301,7 +301,7 @@ struct StepSky {
 fn step_sky(
     patches: &SkyPatches,
     step: &crate::sky::perez::TimeStep,
-    site: &crate::sky::Site,
+    site: &crate::formats::weather::Site,
     sun_angle: f64,
 ) -> StepSky {
     let v = perez_sky_vector(patches, step, site, &PerezOptions::default());
@@ -550,7 +550,7 @@ pub fn evaluate(
             steps.len()
         )));
     }
-    let site = radiance_site(weather);
+    let site = &weather.site;
     let patches = patches_for(c.npatch);
     if patches.len() != c.npatch {
         return Err(Error::Mismatch(format!(
@@ -562,7 +562,7 @@ pub fn evaluate(
         .par_iter()
         .enumerate()
         .map(|(t, s)| {
-            let sky = step_sky(&patches, s, &site, o.sun_angle);
+            let sky = step_sky(&patches, s, site, o.sun_angle);
             evaluate_step(c, rays, &sky, c.sun_direct[t], o)
         })
         .collect())

@@ -472,7 +472,7 @@ fn parse_header<'a>(
     let site = super::Site {
         latitude_deg_n: location.latitude,
         longitude_deg_e: location.longitude,
-        time_zone_hours_e: location.time_zone,
+        meridian_deg_e: super::Site::meridian_from_hours(location.time_zone),
         elevation_m: location.elevation,
         ..Default::default()
     };

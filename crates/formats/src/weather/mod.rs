@@ -13,7 +13,7 @@
 //! |---|---|---|---|
 //! | latitude | degrees north | degrees north | `latitude_deg_n` |
 //! | longitude | degrees **west** positive | degrees **east** positive | `longitude_deg_e` = EPW value = −wea value |
-//! | time zone | standard meridian, degrees **west** positive (e.g. `120` for UTC−8) | hours **east** of GMT (e.g. `-8.0`) | `time_zone_hours_e` = EPW value = −wea/15 |
+//! | time zone | standard meridian, degrees **west** positive (e.g. `120` for UTC−8) | hours **east** of GMT (e.g. `-8.0`) | `meridian_deg_e` = 15 × EPW value = 15 × (−wea/15); [`Site::time_zone_hours_e`] = EPW value = −wea/15 |
 //! | elevation | metres | metres | `elevation_m` |
 //!
 //! Time of a step: `.wea` rows carry decimal local standard time directly (e.g. `12.5`, the
@@ -62,25 +62,74 @@ impl WeaUnits {
     }
 }
 
-/// Where the weather was measured, in one sign convention (east and north positive).
+/// Where the weather was measured, or where a sky is generated: the one site type of the
+/// workspace, in one sign convention (north and east positive).
+///
+/// Radiance's generators (`gensky -a -o -m`, `gendaymtx` after `loadEPW.c`) work in degrees
+/// **west**; the sky code takes those numbers from [`Site::longitude_west`] and
+/// [`Site::meridian_west`], and command lines that give west-positive values convert them
+/// once, where they are parsed (`docs/radiance-notes.md` §5.4 and §7.1).
+///
+/// The time zone is stored as the standard meridian in degrees east (`meridian_deg_e`), not
+/// in hours, because that keeps every sky path bit-identical to earlier versions (and so to
+/// Radiance wherever they matched it; Radiance itself keeps a `.wea` zone as a C `float`):
+/// - gensky/genssky `-m deg` is used by Radiance as given (`s_meridian = atof(...)`):
+///   `meridian_deg_e = -deg` and `meridian_west() = -(-deg)` are exact for any value, where
+///   hours (`-deg / 15`, then `-15 × hours`) lose the last bit for many meridians that are
+///   not multiples of 3.75° (e.g. 122.04).
+/// - An EPW gives hours `h` and gendaymtx uses `s_meridian = -15.*timezone`: the reader stores
+///   `15 × h`, so `meridian_west()` is exactly `-15 × h`.
+/// - A `.wea` `time_zone v` goes through hours in Radiance's loader (`timezone *= -1./15.`)
+///   and back in gendaymtx; the reader stores `15 × (-v / 15)`, the meridian earlier versions
+///   used (equal to `-v` for every real zone, all multiples of 3.75°).
+///
+/// [`Site::time_zone_hours_e`] gives the hours back (`meridian_deg_e / 15`): exact for every
+/// quarter-hour zone, and it returns the `-v / 15` a `.wea` gave (checked numerically on
+/// 2·10⁷ meridians); only for an EPW zone that is not a multiple of 0.25 h can
+/// `(15 × h) / 15` differ from `h` in the last bit.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct Site {
     /// City (EPW LOCATION field 1; the part of a `.wea` `place` before the first `_`).
     pub name: String,
     /// Country (EPW LOCATION field 3; the part of a `.wea` `place` after the first `_`).
     pub country: String,
-    /// Degrees north (−90..=90).
+    /// Degrees north (−90..=90); gensky `-a`.
     pub latitude_deg_n: f64,
-    /// Degrees east (−180..=180). A `.wea` file stores the negative of this.
+    /// Degrees east (−180..=180). A `.wea` file and gensky `-o` give the negative of this.
     pub longitude_deg_e: f64,
-    /// Standard time zone in hours east of GMT (−12..=12). A `.wea` file stores
-    /// `-15 * time_zone_hours_e` (its standard meridian in degrees west).
-    pub time_zone_hours_e: f64,
+    /// Standard meridian of the time zone in degrees east (−180..=180), `15 ×` the zone's
+    /// hours east of GMT. A `.wea` `time_zone` and gensky `-m` give the negative of this.
+    pub meridian_deg_e: f64,
     /// Metres above sea level (−1000..=9999.9).
     pub elevation_m: f64,
 }
 
 impl Site {
+    /// The standard meridian of a time zone `hours` east of GMT, in degrees east, as
+    /// Radiance computes it from a weather file's zone (`15 × hours`).
+    pub fn meridian_from_hours(hours: f64) -> f64 {
+        15.0 * hours
+    }
+
+    /// Standard time zone in hours east of GMT (−12..=12), the EPW LOCATION value.
+    pub fn time_zone_hours_e(&self) -> f64 {
+        self.meridian_deg_e / 15.0
+    }
+
+    /// Longitude in degrees **west** of Greenwich, Radiance's generator convention
+    /// (gensky `-o`, gendaymtx's `s_longitude = -loc.longitude`; `docs/radiance-notes.md`
+    /// §5.4, §7.1): `-longitude_deg_e`, exact.
+    pub fn longitude_west(&self) -> f64 {
+        -self.longitude_deg_e
+    }
+
+    /// Standard meridian in degrees **west**, Radiance's generator convention (gensky `-m`,
+    /// gendaymtx's `s_meridian = -15.*loc.timezone`; `docs/radiance-notes.md` §5.4, §7.1):
+    /// `-meridian_deg_e`, exact (see the type's documentation for why the meridian is stored).
+    pub fn meridian_west(&self) -> f64 {
+        -self.meridian_deg_e
+    }
+
     /// The `.wea` `place` value: `city_country` (`epw2wea` joins them with `_`, and
     /// `loadEPW.c` splits at the first `_`).
     pub fn place(&self) -> String {
@@ -103,7 +152,7 @@ impl Site {
         }
         within(self.latitude_deg_n, -90.0, 90.0, "latitude")?;
         within(self.longitude_deg_e, -180.0, 180.0, "longitude")?;
-        within(self.time_zone_hours_e, -12.0, 12.0, "time zone (hours)")?;
+        within(self.time_zone_hours_e(), -12.0, 12.0, "time zone (hours)")?;
         within(self.elevation_m, -1000.0, 9999.9, "elevation")
     }
 }
@@ -219,7 +268,7 @@ impl Weather {
             country: loc.country.clone(),
             latitude_deg_n: loc.latitude,
             longitude_deg_e: loc.longitude,
-            time_zone_hours_e: loc.time_zone,
+            meridian_deg_e: Site::meridian_from_hours(loc.time_zone),
             elevation_m: loc.elevation,
         };
         let per_hour = epw.header.records_per_hour();

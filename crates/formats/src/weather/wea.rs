@@ -134,9 +134,10 @@ pub fn parse(text: &str, file: &str) -> Result<Weather> {
             1 => site.latitude_deg_n = v,
             // Degrees west in the file; east in `Site` (loadEPW: `longitude *= -1`).
             2 => site.longitude_deg_e = -v,
-            // Meridian in degrees west in the file; hours east in `Site`
-            // (loadEPW: `timezone *= -1./15.`).
-            3 => site.time_zone_hours_e = -v / 15.0,
+            // Meridian in degrees west in the file, turned into hours east as loadEPW
+            // does (`timezone *= -1./15.`) and back into degrees east as gendaymtx does
+            // (`-15.*timezone`): the meridian earlier versions used, `-v` for real zones.
+            3 => site.meridian_deg_e = Site::meridian_from_hours(-v / 15.0),
             4 => {
                 site.elevation_m = v;
                 site.check().map_err(|m| Error::parse(at(), m))?;
@@ -247,7 +248,7 @@ pub fn write_wea<W: Write + ?Sized>(
     let site = &weather.site;
     // Keep the sign of zero: `epw2wea` prints `-1.0*atof("0.0")` as `-0.000000`.
     let lon_w = -site.longitude_deg_e;
-    let tz_deg_w = -15.0 * site.time_zone_hours_e;
+    let tz_deg_w = site.meridian_west();
     writeln!(w, "place {}", site.place())?;
     match style {
         WeaStyle::Epw2wea => {
@@ -256,7 +257,7 @@ pub fn write_wea<W: Write + ?Sized>(
                 None => writeln!(w, "latitude {}", site.latitude_deg_n)?,
             }
             writeln!(w, "longitude {lon_w:.6}")?;
-            if site.time_zone_hours_e.fract() == 0.0 {
+            if site.time_zone_hours_e().fract() == 0.0 {
                 writeln!(w, "time_zone {tz_deg_w:.0}")?;
             } else {
                 // epw2wea truncates a fractional zone with atoi() (India's 5.5 h becomes
@@ -320,7 +321,7 @@ mod tests {
         assert_eq!(w.site.name, "San");
         assert_eq!(w.site.country, "Francisco_USA");
         assert_eq!(w.site.longitude_deg_e, -122.4);
-        assert_eq!(w.site.time_zone_hours_e, -8.0);
+        assert_eq!(w.site.time_zone_hours_e(), -8.0);
         assert_eq!(w.steps.len(), 3);
         assert_eq!(w.steps[1].hour, 12.5);
         assert_eq!(w.steps[2].aod, Some(120.0));

@@ -84,8 +84,8 @@ use super::genssky::{D6415, overcast_brightness, overcast_zenith};
 use super::matrix::time_steps;
 use super::patches::{SkyPatches, direction};
 use super::perez::{PerezOptions, perez_sky_vector};
-use super::solar::Site;
 use crate::error::{Error, Result};
+use crate::formats::weather::Site;
 use crate::formats::weather::Weather;
 use crate::formats::weather::epw::{Epw, EpwField};
 use crate::radiometry::{Channels, WHITE_EFFICACY};
@@ -162,7 +162,7 @@ pub fn atmosphere_steps(
     patches: &SkyPatches,
     opts: &AtmosphereMatrixOptions,
 ) -> Vec<AtmosphereStep> {
-    let site = super::matrix::radiance_site(w);
+    let site = &w.site;
     let steps = time_steps(w);
     let perez = PerezOptions {
         rotation_deg: opts.rotation_deg,
@@ -173,7 +173,7 @@ pub fn atmosphere_steps(
         .par_iter()
         .enumerate()
         .filter_map(|(i, t)| {
-            let v = perez_sky_vector(patches, t, &site, &perez);
+            let v = perez_sky_vector(patches, t, site, &perez);
             if opts.skip_night && !v.sun_in_sky() {
                 return None;
             }
@@ -333,7 +333,7 @@ pub fn atmosphere_matrix(
             opts.ground_reflectance
         )));
     }
-    let key = |s: &AtmosphereStep| (Climate::for_site(site.latitude, s.month), s.aod);
+    let key = |s: &AtmosphereStep| (Climate::for_site(site.latitude_deg_n, s.month), s.aod);
     let mut sets: Vec<(Climate, f64)> = Vec::new();
     for s in steps {
         let k = key(s);

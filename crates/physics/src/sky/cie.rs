@@ -35,7 +35,8 @@
 //! ```
 
 use super::perez::horizon_blend;
-use super::solar::{Site, SunPosition};
+use super::solar::SunPosition;
+use crate::formats::weather::Site;
 use std::f64::consts::PI;
 
 /// Radiance's `SKYEFFICACY` (lm/W, `src/common/color.h`).

@@ -33,7 +33,8 @@ use super::efficacy::CLEARNESS_EDGES as EDGES;
 use super::efficacy::SOLAR_CONSTANT as SOLAR_CONSTANT_E;
 use super::efficacy::{self, Flavour};
 use super::perez::{PEREZ_1993, perezlum};
-use super::solar::{Site, SunPosition, sunrise_sunset};
+use super::solar::{SunPosition, sunrise_sunset};
+use crate::formats::weather::Site;
 use crate::radiometry::WHITE_EFFICACY;
 use std::f64::consts::PI;
 

@@ -74,9 +74,10 @@ use super::atmosphere::cache::{CacheStatus, load_or_compute};
 use super::atmosphere::{
     Atmosphere, Climate, EARTH_RADIUS, MieProfile, NSSAMP, SPAN, SUN_SOLID_ANGLE, Tables,
 };
-use super::solar::{Site, SunPosition};
+use super::solar::{SunPosition, gensky_default_site};
 use crate::error::{Error, Result};
 use crate::formats::picture::{Picture, PixelFormat};
+use crate::formats::weather::Site;
 use crate::radiometry::{Channels, WHITE_EFFICACY};
 use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
@@ -218,7 +219,7 @@ impl GensskyOptions {
             day,
             hour,
             year: None,
-            site: Site::gensky_default(),
+            site: gensky_default_site(),
             aod: super::atmosphere::AOD_CONTINENTAL,
             cloud_cover: 0.0,
             ground_reflectance: 0.2,
@@ -282,10 +283,10 @@ impl GensskyOptions {
                 )));
             }
         }
-        if !(-90.0..=90.0).contains(&self.site.latitude) {
+        if !(-90.0..=90.0).contains(&self.site.latitude_deg_n) {
             return Err(Error::Usage(format!(
                 "-a {}: latitude must be -90 to 90",
-                self.site.latitude
+                self.site.latitude_deg_n
             )));
         }
         Ok(())
@@ -293,9 +294,10 @@ impl GensskyOptions {
 
     /// The site with a zone name's meridian applied.
     pub fn effective_site(&self) -> Site {
-        let mut s = self.site;
+        let mut s = self.site.clone();
         if let Some(m) = self.hour.zone_meridian {
-            s.meridian_west = m;
+            // The zone name's meridian is in degrees west, like `-m`.
+            s.meridian_deg_e = -m;
         }
         s
     }
@@ -317,7 +319,7 @@ impl GensskyOptions {
     /// The atmosphere whose tables this sky needs.
     pub fn atmosphere(&self, mie: MieProfile) -> Atmosphere {
         Atmosphere {
-            climate: Climate::for_site(self.site.latitude, self.month),
+            climate: Climate::for_site(self.site.latitude_deg_n, self.month),
             aod: self.aod,
             ground_reflectance: self.ground_reflectance,
             mie,

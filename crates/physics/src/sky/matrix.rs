@@ -38,21 +38,12 @@
 use super::efficacy::{DEFAULT_DEW_POINT, DewPointMean};
 use super::patches::SkyPatches;
 use super::perez::{InputUnits, PerezOptions, SkyVector, TimeStep, perez_sky_vector};
-use super::solar::{LeapDayTracker, Site};
-use crate::formats::weather::{WeaUnits, Weather};
+use super::solar::LeapDayTracker;
+use crate::formats::weather::{Site, WeaUnits, Weather};
 use rayon::prelude::*;
 
 /// Time steps computed together (in parallel) before they are stored.
 pub const BLOCK: usize = 256;
-
-/// The site of a weather file in Radiance's generator conventions (degrees west).
-pub fn radiance_site(w: &Weather) -> Site {
-    Site {
-        latitude: w.site.latitude_deg_n,
-        longitude_west: -w.site.longitude_deg_e,
-        meridian_west: -15.0 * w.site.time_zone_hours_e,
-    }
-}
 
 /// gendaymtx's `LATLONG=` header value: latitude north and longitude east, `%.8f`.
 pub fn latlong(w: &Weather) -> String {
@@ -306,9 +297,10 @@ mod tests {
 
     fn site() -> Site {
         Site {
-            latitude: 51.15,
-            longitude_west: 0.18,
-            meridian_west: 0.0,
+            latitude_deg_n: 51.15,
+            longitude_deg_e: -0.18,
+            meridian_deg_e: 0.0,
+            ..Site::default()
         }
     }
 
@@ -369,8 +361,10 @@ mod tests {
             st.iter()
                 .all(|s| s.units == InputUnits::DirectHorizontalIrradiance)
         );
-        let site = radiance_site(&w);
-        assert_eq!((site.longitude_west, site.meridian_west), (0.18, 0.0));
+        assert_eq!(
+            (w.site.longitude_west(), w.site.meridian_west()),
+            (0.18, 0.0)
+        );
         assert_eq!(latlong(&w), "51.15000000 -0.18000000");
     }
 

@@ -46,4 +46,4 @@ pub mod spectral;
 pub use cie::{CieSky, CieSkyDescription, GenskyOptions};
 pub use patches::SkyPatches;
 pub use perez::{PerezOptions, SkyVector, TimeStep, perez_sky_vector};
-pub use solar::{Site, SunPosition};
+pub use solar::SunPosition;

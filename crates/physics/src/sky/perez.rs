@@ -35,7 +35,8 @@
 
 use super::efficacy::{DEFAULT_DEW_POINT, SkyState};
 use super::patches::{SkyPatches, direction};
-use super::solar::{Site, SunPosition};
+use super::solar::SunPosition;
+use crate::formats::weather::Site;
 use crate::radiometry::WHITE_EFFICACY;
 use std::f64::consts::PI;
 

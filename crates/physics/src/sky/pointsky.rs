@@ -122,8 +122,8 @@ pub fn point_sky_text(
 #[cfg(test)]
 mod tests {
     use super::super::gendaylit::GendaylitOptions;
-    use super::super::solar::Site;
     use super::*;
+    use crate::formats::weather::Site;
 
     #[test]
     fn records_are_found_by_date_and_hour_in_their_units() {
@@ -154,9 +154,10 @@ mod tests {
     #[test]
     fn text_has_sun_sky_and_glows_with_exact_arguments() {
         let site = Site {
-            latitude: 51.15,
-            longitude_west: 0.18,
-            meridian_west: 0.0,
+            latitude_deg_n: 51.15,
+            longitude_deg_e: -0.18,
+            meridian_deg_e: 0.0,
+            ..Site::default()
         };
         let o = GendaylitOptions::new(GendaylitInput::DirectNormalIrradiance {
             direct: 838.0,

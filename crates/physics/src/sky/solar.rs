@@ -16,9 +16,11 @@
 //! direction = (-sin az cos alt, -cos az cos alt, sin alt)     (+X east, +Y north, +Z up)
 //! ```
 //!
-//! Sign conventions follow gensky's options: `-a lat` degrees **north**, `-o lon` degrees
+//! The formulas use gensky's sign conventions: `-a lat` degrees **north**, `-o lon` degrees
 //! **west** of Greenwich, `-m meridian` degrees **west** (the standard meridian of the time
-//! zone, 15 deg per hour: GMT 0, CET -15, EST 75, PST 120). Hours are local standard time
+//! zone, 15 deg per hour: GMT 0, CET -15, EST 75, PST 120). They take the workspace's one
+//! east-positive [`Site`] and read the west-positive numbers from [`Site::longitude_west`]
+//! and [`Site::meridian_west`]. Hours are local standard time
 //! unless given as solar time (gensky `+hour`). gensky prints azimuth west of south;
 //! gendaymtx converts it to east of north by adding pi (and subtracting its `-r` rotation).
 //!
@@ -26,28 +28,18 @@
 //! that run is shifted by +1 day ([`LeapDayTracker`]); gensky and gendaylit ignore leap
 //! years except with `-y year` (Michalsky), where the year decides.
 
+use crate::formats::weather::Site;
 use std::f64::consts::PI;
 
-/// A site as Radiance's generators see it.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Site {
-    /// Latitude in degrees north (gensky `-a`).
-    pub latitude: f64,
-    /// Longitude in degrees **west** of Greenwich (gensky `-o`; WEA `longitude`).
-    pub longitude_west: f64,
-    /// Standard meridian in degrees **west** (gensky `-m`; WEA `time_zone`).
-    pub meridian_west: f64,
-}
-
-impl Site {
-    /// gensky's compiled-in default site (San Francisco area: `-a 37.815 -o 122.04 -m 120`,
-    /// from `s_latitude = 0.66`, `s_longitude = 2.13` radians in `sun.c`).
-    pub fn gensky_default() -> Site {
-        Site {
-            latitude: 0.66f64.to_degrees(),
-            longitude_west: 2.13f64.to_degrees(),
-            meridian_west: 120.0,
-        }
+/// gensky's compiled-in default site (San Francisco area: `-a 37.815 -o 122.04 -m 120`,
+/// from `s_latitude = 0.66`, `s_longitude = 2.13` radians in `sun.c`), converted once from
+/// gensky's west-positive numbers into the east-positive [`Site`].
+pub fn gensky_default_site() -> Site {
+    Site {
+        latitude_deg_n: 0.66f64.to_degrees(),
+        longitude_deg_e: -(2.13f64.to_degrees()),
+        meridian_deg_e: -120.0,
+        ..Site::default()
     }
 }
 
@@ -65,7 +57,7 @@ pub fn solar_time_adjust(jd: u32, site: &Site) -> f64 {
     let jd = jd as f64;
     0.170 * ((4.0 * PI / 373.0) * (jd - 80.0)).sin()
         - 0.129 * ((2.0 * PI / 355.0) * (jd - 8.0)).sin()
-        + (12.0 / PI) * (site.meridian_west.to_radians() - site.longitude_west.to_radians())
+        + (12.0 / PI) * (site.meridian_west().to_radians() - site.longitude_west().to_radians())
 }
 
 /// Where the sun is, in Radiance's conventions.
@@ -82,7 +74,7 @@ pub struct SunPosition {
 impl SunPosition {
     /// Position from declination and solar time (`sun.c: salt, sazi`).
     pub fn from_declination(site: &Site, decl: f64, solar_time: f64) -> SunPosition {
-        let lat = site.latitude.to_radians();
+        let lat = site.latitude_deg_n.to_radians();
         let h = solar_time * (PI / 12.0);
         let altitude = (lat.sin() * decl.sin() - lat.cos() * decl.cos() * h.cos()).asin();
         let azimuth = -(decl.cos() * h.sin())
@@ -176,7 +168,7 @@ pub fn michalsky_date(site: &Site, year: i32, month: u32, day: u32, hour: f64) -
         jd += 1;
     }
     jd += (year - 1949) * 365 + (year - 1949) / 4;
-    let hour = hour + site.meridian_west.to_radians() * (12.0 / PI);
+    let hour = hour + site.meridian_west().to_radians() * (12.0 / PI);
     jd as f64 + hour / 24.0 + (2432916.5 - 2451545.0)
 }
 
@@ -191,7 +183,7 @@ pub fn michalsky_declination(site: &Site, mjd: f64) -> (f64, f64) {
     let ra = (l.sin() * ep.cos()).atan2(l.cos());
     let utime = 24.0 * (mjd - mjd.floor()) + 12.0;
     let gmst = 6.697375 + 0.0657098242 * mjd + utime;
-    let lmst = gmst - site.longitude_west.to_radians() * (12.0 / PI);
+    let lmst = gmst - site.longitude_west().to_radians() * (12.0 / PI);
     let st = circ(lmst - ra * (12.0 / PI) + 12.0, 24.0);
     ((ep.sin() * l.sin()).asin(), st)
 }
@@ -200,7 +192,7 @@ pub fn michalsky_declination(site: &Site, mjd: f64) -> (f64, f64) {
 /// (`gendaymtx.c: solar_sunrise/solar_sunset`; uses the un-shifted day of year and a C
 /// `float` intermediate, reproduced here).
 pub fn sunrise_sunset(site: &Site, month: u32, day: u32) -> (f64, f64) {
-    let w = (-(site.latitude.to_radians().tan() * declination(day_of_year(month, day)).tan()))
+    let w = (-(site.latitude_deg_n.to_radians().tan() * declination(day_of_year(month, day)).tan()))
         as f32 as f64;
     let half = (PI / 2.0 - w.atan2((1.0 - w * w).sqrt())) * 180.0 / (PI * 15.0);
     (12.0 - half, 12.0 + half)

@@ -42,9 +42,9 @@
 use super::matrix::{Colours, MatrixOptions};
 use super::patches::SkyPatches;
 use super::perez::{SkyVector, TimeStep, perez_sky_vector};
-use super::solar::Site;
 use crate::colour::bands::{Curve, band_integrals, spec_dot};
 use crate::colour::cie::daylight;
+use crate::formats::weather::Site;
 use crate::radiometry::Channels;
 use rayon::prelude::*;
 
@@ -270,9 +270,10 @@ mod tests {
     #[test]
     fn photopic_weighting_equals_the_rgb_matrix() {
         let site = Site {
-            latitude: 51.15,
-            longitude_west: 0.18,
-            meridian_west: 0.0,
+            latitude_deg_n: 51.15,
+            longitude_deg_e: -0.18,
+            meridian_deg_e: 0.0,
+            ..Site::default()
         };
         let p = SkyPatches::new(1);
         let ch = Channels::spectral(18, 380.0, 780.0).unwrap();

@@ -479,17 +479,12 @@ pub fn sun_discs(suns: &SunSource, angle: f64) -> Result<Vec<SunDisc>> {
                 .collect());
         }
     };
-    let site = crate::sky::Site {
-        latitude: w.site.latitude_deg_n,
-        longitude_west: -w.site.longitude_deg_e,
-        meridian_west: -15.0 * w.site.time_zone_hours_e,
-    };
     let mut leap = crate::sky::solar::LeapDayTracker::new();
     Ok(w.steps
         .iter()
         .map(|s| {
             let jd = leap.day_of_year(u32::from(s.month), u32::from(s.day));
-            let pos = crate::sky::SunPosition::at(&site, jd, s.hour);
+            let pos = crate::sky::SunPosition::at(&w.site, jd, s.hour);
             if pos.altitude > 0.0 {
                 SunDisc::new(pos.direction(), angle)
             } else {

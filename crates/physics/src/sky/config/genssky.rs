@@ -53,11 +53,11 @@ impl GensskyConfig {
         // usually a sign mistake.
         if o.hour.zone_meridian.is_none()
             && !o.hour.solar
-            && (o.site.meridian_west - o.site.longitude_west).abs() > 45.0
+            && (o.site.meridian_west() - o.site.longitude_west()).abs() > 45.0
         {
             msgs.warn(&format!(
                 "warning - {:.1} hours btwn. standard meridian and longitude",
-                (o.site.longitude_west - o.site.meridian_west) / 15.0
+                (o.site.longitude_west() - o.site.meridian_west()) / 15.0
             ));
         }
         let mie = load_mie(self.mie.as_deref())?;

@@ -18,9 +18,7 @@ use crate::sky::atmosphere::cache::{self, CacheStatus};
 use crate::sky::atmosphere_matrix::{
     AtmosphereMatrixOptions, atmosphere_matrix, atmosphere_steps, native_channels,
 };
-use crate::sky::matrix::{
-    Colours, MatrixOptions, average_column, latlong, radiance_site, sky_matrix, time_steps,
-};
+use crate::sky::matrix::{Colours, MatrixOptions, average_column, latlong, sky_matrix, time_steps};
 use crate::sky::spectral::spectral_sky_matrix;
 use crate::sky::{PerezOptions, SkyPatches};
 use std::io::Write;
@@ -214,7 +212,7 @@ impl SkyMatrixConfig {
         name: &str,
         msgs: &dyn Messages,
     ) -> Result<()> {
-        let site = radiance_site(weather);
+        let site = &weather.site;
         let steps = time_steps(weather);
         let opts = MatrixOptions {
             perez: PerezOptions {
@@ -232,13 +230,13 @@ impl SkyMatrixConfig {
         let mut header = self.header(weather);
         let wopts = self.write_options();
         if let Some(ch) = spectral {
-            let mtx = spectral_sky_matrix(&patches, &steps, &site, &opts, &ch, &progress);
+            let mtx = spectral_sky_matrix(&patches, &steps, site, &opts, &ch, &progress);
             let shape = (mtx.nrows(), mtx.ncols(), ch);
             write_rows(out, name, header, shape, wopts, self.average, |p, row| {
                 mtx.row(p, row)
             })
         } else if self.average {
-            let (col, n) = average_column(&patches, &steps, &site, &opts, &progress);
+            let (col, n) = average_column(&patches, &steps, site, &opts, &progress);
             header.set("NAVERAGED", n);
             let shape = (patches.len(), 1, Channels::rgb());
             write_rows(out, name, header, shape, wopts, false, |p, row| {
@@ -246,7 +244,7 @@ impl SkyMatrixConfig {
                 row.extend_from_slice(&col[3 * p..3 * p + 3]);
             })
         } else {
-            let mtx = sky_matrix(&patches, &steps, &site, &opts, &progress);
+            let mtx = sky_matrix(&patches, &steps, site, &opts, &progress);
             let shape = (mtx.nrows(), mtx.ncols(), Channels::rgb());
             write_rows(out, name, header, shape, wopts, false, |p, row| {
                 mtx.row(p, row)
@@ -290,8 +288,8 @@ impl SkyMatrixConfig {
             steps.len(),
             dir.display()
         ));
-        let site = radiance_site(weather);
-        let (mtx, used) = atmosphere_matrix(&patches, &steps, &site, &opts, &mie, &dir, &ch)?;
+        let (mtx, used) =
+            atmosphere_matrix(&patches, &steps, &weather.site, &opts, &mie, &dir, &ch)?;
         let mut header = self.header(weather);
         header.set(
             "SKYMODEL",

@@ -7,13 +7,12 @@
 
 use super::ColourEdit;
 use crate::error::{Error, Result};
-use crate::formats::weather::Weather;
+use crate::formats::weather::{Site, Weather};
 use crate::sky::gendaylit::{GendaylitInput, GendaylitOptions, GendaylitOutput, GendaylitSky};
-use crate::sky::matrix::{Colours, radiance_site};
+use crate::sky::matrix::Colours;
 use crate::sky::pointsky::{
     PointSkyColours, point_sky_text, record_input, split_ground_reflectance,
 };
-use crate::sky::solar::Site;
 use std::io::Write;
 use std::path::PathBuf;
 
@@ -88,14 +87,14 @@ impl PointSkyConfig {
                         path.display()
                     )));
                 };
-                (radiance_site(&w), input)
+                (w.site, input)
             }
             PointSkyInput::Irradiance {
                 direct,
                 diffuse,
                 site,
             } => (
-                *site,
+                site.clone(),
                 GendaylitInput::DirectNormalIrradiance {
                     direct: *direct,
                     diffuse: *diffuse,
