@@ -147,6 +147,27 @@ fn shard_option_is_validated() {
         let e = String::from_utf8_lossy(&out.stderr);
         assert!(e.contains("0 <= K < N <= 100000"), "--shard {bad}: {e}");
     }
+    // Pictures (no -m/--suns) cannot be merged, nor RGBE rows.
+    let pic = run(
+        ours("rdc").args([
+            "-vtv",
+            "-x",
+            "4",
+            "-y",
+            "4",
+            "--shard",
+            "0/2",
+            &room("room.rad"),
+        ]),
+        b"",
+    );
+    assert_eq!(pic.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&pic.stderr).contains("pictures cannot be merged"));
+    let rgbe = run(
+        ours("rdc").args(["-I", "-m", "1", "-fac", "--shard", "0/2", &room("room.rad")]),
+        b"",
+    );
+    assert_eq!(rgbe.status.code(), Some(1));
     let out = run(
         ours("rdc").args(["-I", "-m", "1", "--manifest", "m.json", &room("room.rad")]),
         b"",

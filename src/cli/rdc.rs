@@ -527,6 +527,30 @@ impl Options {
 mod tests {
     use super::*;
 
+    #[test]
+    fn shard_options_leave_the_header_command() {
+        let cmd: Vec<String> = [
+            "rdc",
+            "-I",
+            "--shard",
+            "1/3",
+            "-m",
+            "1",
+            "--manifest=m.json",
+            "--shard=1/3",
+            "--manifest",
+            "x.json",
+            "room.rad",
+        ]
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
+        assert_eq!(
+            without_shard_options(&cmd),
+            ["rdc", "-I", "-m", "1", "room.rad"]
+        );
+    }
+
     fn parse(args: &[&str]) -> Options {
         let mut v = vec!["rdc".to_string()];
         v.extend(radiance_args(args));
