@@ -166,3 +166,18 @@ recon-example: build
 	$(BIN)/rmetrics -w $(EPW) --pts examples/scan/rect_sensors.pts -o $(OUT)/recon/metrics.tsv \
 	    $(OUT)/recon/illuminance.mtx
 	@grep '^room' $(OUT)/recon/metrics.tsv
+
+# Beyond one machine (examples/slurm/): the main job's daylight coefficients as a Slurm job
+# array of SLURM_N shards (`rdc --shard K/N`, K = $SLURM_ARRAY_TASK_ID), a merge job that
+# depends on it (afterok: `rmtx --cat` of the shards, checked with their manifests, then
+# rspecsky, rmtx and rmetrics as in `example`), the room metrics, and a byte-for-byte
+# comparison of the merged dc.mtx with an unsharded run. examples/slurm/start.sh starts a
+# single-host Slurm when none answers (installing slurm-wlm and munge with apt-get if
+# missing; state under /tmp/rdaylight-slurm); `make slurm-stop` stops it.
+SLURM_N ?= 3
+.PHONY: slurm-example slurm-stop
+slurm-example: build
+	N=$(SLURM_N) OUT=$(OUT)/slurm BIN=$(BIN) RDC_OPTS="$(RDC_OPTS)" bash examples/slurm/run.sh
+
+slurm-stop:
+	bash examples/slurm/stop.sh

@@ -25,6 +25,7 @@
 use crate::error::{Error, Result};
 use crate::formats::matrix::DataFormat;
 use crate::formats::sensors::RayFormat;
+use crate::formats::shard::Shard;
 use crate::formats::view::View;
 use crate::material::RgbUplift;
 use crate::radiometry::Channels;
@@ -266,6 +267,21 @@ pub struct Options {
     #[arg(long = "oi")]
     pub oi: bool,
 
+    /// Compute only the K-th of N contiguous row blocks (K 0-based: 0 <= K < N <= 100000):
+    /// sensor rows, or with a view and -m/--suns whole scanlines of pixel rows. Every
+    /// sensor is still read; with R rows each shard gets R/N, the first R%N one more.
+    /// Records keep the unsharded run's seeds, and `rmtx --cat` of the N outputs gives the
+    /// unsharded run's bytes (the header says SHARD= K/N FIRST TOTAL; --shard and
+    /// --manifest are left out of the header's command line). No Radiance counterpart.
+    #[arg(long = "shard", value_name = "K/N")]
+    pub shard: Option<String>,
+
+    /// With --shard: write the shard's manifest to FILE (JSON: command, N, K, seed, rows,
+    /// version, every input with its size and 64-bit FNV-1a hash), for
+    /// `rmtx --cat ... --manifests`.
+    #[arg(long = "manifest", value_name = "FILE")]
+    pub manifest: Option<String>,
+
     /// Print help.
     #[arg(long = "help", action = clap::ArgAction::Help)]
     pub help: Option<bool>,
@@ -334,6 +350,30 @@ pub fn radiance_args<S: AsRef<str>>(args: &[S]) -> Vec<String> {
             "-h-" => out.push("-h".into()),
             _ if LONG.contains(&a) => out.push(format!("-{a}")),
             _ => out.push(a.to_string()),
+        }
+    }
+    out
+}
+
+/// The command line without `--shard K/N` and `--manifest FILE` (either spelling: `--x v`
+/// or `--x=v`): they say where a piece of the run goes, not what it computes, so every
+/// shard's header names the unsharded run's command (`rdaylight::formats::shard`).
+pub fn without_shard_options(command: &[String]) -> Vec<String> {
+    let mut out = Vec::with_capacity(command.len());
+    let mut skip_next = false;
+    for (i, a) in command.iter().enumerate() {
+        if skip_next {
+            skip_next = false;
+            continue;
+        }
+        if a == "--" {
+            out.extend(command[i..].iter().cloned());
+            break;
+        }
+        match a.as_str() {
+            "--shard" | "--manifest" => skip_next = true,
+            _ if a.starts_with("--shard=") || a.starts_with("--manifest=") => {}
+            _ => out.push(a.clone()),
         }
     }
     out
@@ -470,7 +510,13 @@ impl Options {
             picture_file: self.output.clone(),
             se_out: self.se_out.clone(),
             stats: self.stats,
-            command: command.to_vec(),
+            command: without_shard_options(command),
+            shard: self
+                .shard
+                .as_deref()
+                .map(|s| Shard::parse(s, "--shard"))
+                .transpose()?,
+            manifest: self.manifest.clone(),
         };
         run.validate()?;
         Ok(run)
@@ -480,6 +526,30 @@ impl Options {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn shard_options_leave_the_header_command() {
+        let cmd: Vec<String> = [
+            "rdc",
+            "-I",
+            "--shard",
+            "1/3",
+            "-m",
+            "1",
+            "--manifest=m.json",
+            "--shard=1/3",
+            "--manifest",
+            "x.json",
+            "room.rad",
+        ]
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
+        assert_eq!(
+            without_shard_options(&cmd),
+            ["rdc", "-I", "-m", "1", "room.rad"]
+        );
+    }
 
     fn parse(args: &[&str]) -> Options {
         let mut v = vec!["rdc".to_string()];

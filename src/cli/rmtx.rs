@@ -19,7 +19,10 @@ Examples:
   Spectral coefficients times a spectral sky matrix, to illuminance and Radiance's M:
     rmtx dc18.mtx sky18.smx -c YM -fa > ill_M.txt
   Stack sensor blocks computed on two machines:
-    rmtx --cat part1.mtx part2.mtx > dc.mtx";
+    rmtx --cat part1.mtx part2.mtx > dc.mtx
+  Merge the shards of rdc --shard K/3 (checked: one run, all shards, in order; the result
+  has the unsharded run's bytes), with their manifests (checked: same inputs and version):
+    rmtx --cat dc.0.mtx dc.1.mtx dc.2.mtx --manifests m0.json m1.json m2.json > dc.mtx";
 
 /// Radiance matrix operations (rmtxop/dctimestep counterpart).
 ///
@@ -62,9 +65,17 @@ pub struct Options {
     pub scale: Vec<String>,
 
     /// Concatenate row blocks of inputs with equal NCOLS and NCOMP instead of multiplying
-    /// (like `cat` of headerless blocks; rcollate/rcomb have no single equivalent).
+    /// (like `cat` of headerless blocks; rcollate/rcomb have no single equivalent). Outputs
+    /// of rdc --shard K/N (a SHARD= header line) are checked to be all N shards of one run,
+    /// in order, and merged verbatim under the unsharded run's header.
     #[arg(long = "cat")]
     pub cat: bool,
+
+    /// With --cat of rdc shards: their manifests (rdc --manifest), one per shard in the
+    /// same order; refuses shards of different inputs, versions or seeds and names missing
+    /// shard indices. Takes every following word: put it last.
+    #[arg(long = "manifests", num_args = 1.., value_name = "JSON")]
+    pub manifests: Vec<String>,
 
     /// Format a|f|d of inputs without a header (dctimestep -i; rcontrib/rtrace/gendaymtx -h).
     #[arg(short = 'i', value_name = "a|f|d")]
@@ -136,6 +147,7 @@ impl Options {
             header: !self.no_header,
             command,
             seekable: crate::io::stdout_is_file(),
+            manifests: self.manifests.clone(),
         })
     }
 }

@@ -314,12 +314,19 @@ impl Header {
     }
 
     /// Append `CAPDATE=` and `GMT=` lines (both UTC here; Radiance writes local time in
-    /// CAPDATE, which on servers is usually UTC anyway).
+    /// CAPDATE, which on servers is usually UTC anyway). `SOURCE_DATE_EPOCH` (seconds; the
+    /// reproducible-builds convention) replaces the clock, so that runs on different
+    /// machines or at different times, e.g. the shards of one job, can match byte for byte.
     pub fn push_dates(&mut self) {
-        let now = std::time::SystemTime::now()
-            .duration_since(std::time::UNIX_EPOCH)
-            .map(|d| d.as_secs() as i64)
-            .unwrap_or(0);
+        let epoch = std::env::var("SOURCE_DATE_EPOCH")
+            .ok()
+            .and_then(|s| s.trim().parse::<i64>().ok());
+        let now = epoch.unwrap_or_else(|| {
+            std::time::SystemTime::now()
+                .duration_since(std::time::UNIX_EPOCH)
+                .map(|d| d.as_secs() as i64)
+                .unwrap_or(0)
+        });
         let stamp = format_utc(now);
         self.lines.push(format!("CAPDATE= {stamp}"));
         self.lines.push(format!("GMT= {stamp}"));

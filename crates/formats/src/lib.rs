@@ -23,5 +23,6 @@ pub mod matrix;
 pub mod picture;
 pub mod scene;
 pub mod sensors;
+pub mod shard;
 pub mod view;
 pub mod weather;

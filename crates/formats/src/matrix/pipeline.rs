@@ -19,6 +19,7 @@ use super::{
 use crate::error::{Error, Result};
 use crate::header::Header;
 use crate::radiometry::Channels;
+use crate::shard::{Manifest, SHARD_VAR, ShardInfo};
 use std::io::{BufRead, Write};
 
 /// One `rmtx` run.
@@ -46,6 +47,9 @@ pub struct Pipeline {
     pub command: Vec<String>,
     /// The output is a seekable file.
     pub seekable: bool,
+    /// With `stack`: the shards' manifests (`rdc --manifest`), checked against each other
+    /// and the inputs before the merge ([`crate::shard::check_manifests`]).
+    pub manifests: Vec<String>,
 }
 
 /// The inputs, opened and checked, ready to stream.
@@ -76,6 +80,22 @@ impl Pipeline {
             return Err(Error::Usage(
                 "standard input used for more than one matrix".into(),
             ));
+        }
+        if !self.manifests.is_empty() && !self.stack {
+            return Err(Error::Usage(
+                "--manifests checks shards: it needs --cat".into(),
+            ));
+        }
+        if self.stack {
+            if let Some(shards) = self.shard_headers(&inputs)? {
+                return self.merge_shards(&inputs, shards, out, name, progress);
+            }
+            if !self.manifests.is_empty() {
+                return Err(Error::Mismatch(format!(
+                    "--manifests: {} has no SHARD= line (not an rdc --shard output)",
+                    inputs[0]
+                )));
+            }
         }
         let mut o = self.open(&inputs)?;
         let first_ch = o.readers[0].info().channels;
@@ -181,6 +201,175 @@ impl Pipeline {
             FLOAT_DIGITS
         };
         wopts
+    }
+}
+
+impl Pipeline {
+    /// With `--cat`: the inputs' headers and NROWS when they are `rdc --shard` outputs
+    /// (any file with a `SHARD=` line), `None` for ordinary matrices.
+    fn shard_headers(&self, inputs: &[String]) -> Result<Option<Vec<(String, Header, usize)>>> {
+        let mut headers = Vec::new();
+        for p in inputs.iter().filter(|p| *p != "-") {
+            let f = std::fs::File::open(p).map_err(|e| Error::io(p, e))?;
+            let h = Header::read(&mut std::io::BufReader::new(f), p)?;
+            headers.push((p.clone(), h));
+        }
+        if !headers.iter().any(|(_, h)| h.get(SHARD_VAR).is_some()) {
+            return Ok(None);
+        }
+        if inputs.iter().any(|p| p == "-") {
+            return Err(Error::Usage(
+                "rdc shards are merged from files, not standard input".into(),
+            ));
+        }
+        headers
+            .into_iter()
+            .map(|(p, h)| {
+                let nrows = h.get_usize("NROWS", &p)?.ok_or_else(|| {
+                    Error::Mismatch(format!("{p}: a shard without NROWS= cannot be checked"))
+                })?;
+                Ok((p, h, nrows))
+            })
+            .collect::<Result<Vec<_>>>()
+            .map(Some)
+    }
+
+    /// `rmtx --cat` of `rdc --shard` outputs: check they are all N shards of one run (and
+    /// their manifests agree), write the unsharded header, copy the rows verbatim, so the
+    /// result has the bytes of the unsharded run (module docs of [`crate::shard`]).
+    fn merge_shards<W: Write>(
+        &self,
+        inputs: &[String],
+        shards: Vec<(String, Header, usize)>,
+        mut out: W,
+        name: &str,
+        progress: &dyn Fn(usize, bool),
+    ) -> Result<()> {
+        if !self.coefs.is_empty() || !self.scale.is_empty() || self.transpose {
+            return Err(Error::Usage(
+                "rmtx --cat of rdc shards copies rows verbatim: no -c, -s or -t (convert the \
+                 merged matrix with a second rmtx)"
+                    .into(),
+            ));
+        }
+        // Shapes and formats first (NCOLS, NCOMP), with the usual messages.
+        let mut readers = Vec::new();
+        for p in inputs {
+            readers.push(MatrixReader::open(p, &self.read)?);
+        }
+        let mut o = Opened {
+            nrows: None,
+            in_format: readers[0].info().format,
+            all_double: false,
+            readers,
+            chain: Vec::new(),
+        };
+        o.check_stack()?;
+        let info = o.readers[0].info().clone();
+        drop(o);
+        if info.format.is_picture() {
+            return Err(Error::Usage(format!(
+                "{}: shards in {} rows cannot be merged; write them with -faa, -faf or -fad",
+                inputs[0],
+                info.format.name()
+            )));
+        }
+        if self.format.is_some_and(|f| f != info.format) {
+            return Err(Error::Usage(
+                "rmtx --cat of rdc shards copies rows verbatim: no -f (convert the merged \
+                 matrix with a second rmtx)"
+                    .into(),
+            ));
+        }
+        let header = crate::shard::merged_header(&shards)?;
+        if !self.manifests.is_empty() {
+            self.check_manifests(&shards)?;
+        }
+        let binary = matches!(info.format, DataFormat::Float | DataFormat::Double);
+        if self.header {
+            let align = if binary && self.seekable {
+                info.format.elem_size()
+            } else {
+                1
+            };
+            header
+                .write(&mut out, align)
+                .map_err(|e| Error::io(name, e))?;
+        }
+        let mut total = 0;
+        for (p, _, nrows) in &shards {
+            let f = std::fs::File::open(p).map_err(|e| Error::io(p, e))?;
+            let mut r = std::io::BufReader::with_capacity(1 << 16, f);
+            Header::read(&mut r, p)?;
+            let (bytes, lines) = copy_counting(&mut r, &mut out, p, name)?;
+            // Rows of the data as written: whole binary rows, or one ascii line per row.
+            let rows = if binary {
+                let row = info.row_len() * info.format.elem_size();
+                (bytes % row as u64 == 0).then(|| (bytes / row as u64) as usize)
+            } else {
+                Some(lines)
+            };
+            if rows != Some(*nrows) {
+                return Err(Error::Mismatch(format!(
+                    "{p}: NROWS={nrows} but the data holds {bytes} bytes ({lines} lines): an \
+                     incomplete shard?"
+                )));
+            }
+            total += nrows;
+        }
+        out.flush().map_err(|e| Error::io(name, e))?;
+        progress(total, true);
+        Ok(())
+    }
+
+    /// `--manifests`: one per shard, in the shards' order, all of one run.
+    fn check_manifests(&self, shards: &[(String, Header, usize)]) -> Result<()> {
+        let mut ms = Vec::new();
+        for p in &self.manifests {
+            ms.push((p.clone(), Manifest::read(p)?));
+        }
+        crate::shard::check_manifests(&ms)?;
+        if ms.len() != shards.len() {
+            return Err(Error::Mismatch(format!(
+                "{} manifests for {} shards: give one manifest per shard, in the same order",
+                ms.len(),
+                shards.len()
+            )));
+        }
+        for ((mp, m), (p, h, nrows)) in ms.iter().zip(shards) {
+            let s = ShardInfo::of(h, p)?.map(|i| (i.shard, i.first, i.total));
+            if s != Some((m.shard, m.first_row, m.total_rows)) || m.rows != *nrows {
+                return Err(Error::Mismatch(format!(
+                    "{mp} describes shard {} (rows {}..{} of {}) but {p} is not that shard",
+                    m.shard,
+                    m.first_row,
+                    m.first_row + m.rows,
+                    m.total_rows
+                )));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Copy `r` to `w` to the end; the bytes and newlines copied.
+fn copy_counting<R: BufRead, W: Write>(
+    r: &mut R,
+    w: &mut W,
+    name: &str,
+    out_name: &str,
+) -> Result<(u64, usize)> {
+    let (mut bytes, mut lines) = (0u64, 0usize);
+    loop {
+        let buf = r.fill_buf().map_err(|e| Error::io(name, e))?;
+        if buf.is_empty() {
+            return Ok((bytes, lines));
+        }
+        w.write_all(buf).map_err(|e| Error::io(out_name, e))?;
+        lines += buf.iter().filter(|&&b| b == b'\n').count();
+        bytes += buf.len() as u64;
+        let n = buf.len();
+        r.consume(n);
     }
 }
 

@@ -21,6 +21,7 @@ use super::tracer::{Estimator, Mode, Quantity, Query, Rng, Stratum, SunDisc, Tal
 use crate::error::{Error, Location, Result};
 use crate::formats::matrix::DataFormat;
 use crate::formats::sensors::{RayFormat, RayReader, SensorRay};
+use crate::formats::shard::{HashingReader, InputSum, Manifest, Shard, ShardInfo, SharedHash};
 use crate::formats::view::{Camera, View};
 use crate::geometry::vec3::normalized;
 use crate::material::ShadingOptions;
@@ -32,6 +33,42 @@ use crate::trace::reweight::{RowWriter, Signature};
 use rand::Rng as _;
 use rayon::prelude::*;
 use std::io::{BufRead, Write};
+
+/// The rows a run wrote: `start..end` of `total` (all of them unless sharded).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Rows {
+    pub start: usize,
+    pub end: usize,
+    pub total: usize,
+}
+
+impl Rows {
+    fn of(shard: Option<Shard>, total: usize) -> Rows {
+        let r = shard.map_or(0..total, |s| s.rows(total));
+        Rows {
+            start: r.start,
+            end: r.end,
+            total,
+        }
+    }
+    pub fn len(&self) -> usize {
+        self.end - self.start
+    }
+    pub fn is_empty(&self) -> bool {
+        self.end == self.start
+    }
+    /// The header of a sharded run: `SHARD=` and the shard's NROWS (unchanged otherwise).
+    fn mark(&self, shard: Option<Shard>, header: &mut crate::formats::header::Header) {
+        if let Some(shard) = shard {
+            let info = ShardInfo {
+                shard,
+                first: self.start,
+                total: self.total,
+            };
+            info.mark(header, self.len());
+        }
+    }
+}
 
 /// Upper bound on the results held for one block (bytes of f64 rows).
 pub const BLOCK_BYTES: usize = 64 << 20;
@@ -353,8 +390,15 @@ pub struct Run {
     pub se_out: Option<String>,
     /// `--stats`: load, compile and trace figures on stderr.
     pub stats: bool,
-    /// The command line, for headers.
+    /// The command line, for headers (and manifests). With `shard` it is the unsharded
+    /// run's: leave `--shard` and `--manifest` out, so the merged header equals a single
+    /// run's (`crate::formats::shard`).
     pub command: Vec<String>,
+    /// `--shard K/N`: compute only the K-th (0-based) of N row blocks (sensor rows, or
+    /// whole scanlines of per-pixel coefficients), seeded as in the unsharded run.
+    pub shard: Option<Shard>,
+    /// `--manifest FILE`: the shard's inputs, hashes, seed and version as JSON.
+    pub manifest: Option<String>,
 }
 
 impl Run {
@@ -364,6 +408,27 @@ impl Run {
         if self.illuminance && (!self.config.irradiance || self.config.channels.ncomp != 3) {
             return Err(Error::Usage(
                 "-oi needs -I and RGB channels (illuminance from irradiance)".into(),
+            ));
+        }
+        if let Some(s) = &self.shard {
+            s.validate()?;
+            if self.view.is_some() && !self.config.target.is_coefficients() {
+                return Err(Error::Usage(
+                    "--shard with a view: pictures cannot be merged; give -m or --suns \
+                     (per-pixel coefficient rows, sharded by scanlines)"
+                        .into(),
+                ));
+            }
+            if self.output == DataFormat::Rgbe {
+                return Err(Error::Usage(
+                    "--shard: write shards with -f?a, -f?f or -f?d (rmtx --cat merges those)"
+                        .into(),
+                ));
+            }
+        }
+        if self.manifest.is_some() && self.shard.is_none() {
+            return Err(Error::Usage(
+                "--manifest describes a shard: it needs --shard K/N (0/1 for a whole run)".into(),
             ));
         }
         if self.picture_file.is_some()
@@ -399,11 +464,13 @@ pub fn main(run: &Run) -> Result<()> {
     let seekable = crate::io::stdout_is_file();
     let reweight = tracer.reweight.as_ref();
     let t_trace = std::time::Instant::now();
+    let sensor_hash = SharedHash::default();
     let result = pool.install(|| match &run.view {
         Some(v) => picture(run, &job, *v, out_channels, seekable, reweight),
         None => {
             let stdin = std::io::stdin();
-            let reader = RayReader::new(stdin.lock(), "<stdin>", run.input);
+            let hashed = HashingReader::new(stdin.lock(), sensor_hash.clone());
+            let reader = RayReader::new(hashed, "<stdin>", run.input);
             sensors(
                 run,
                 &job,
@@ -414,6 +481,35 @@ pub fn main(run: &Run) -> Result<()> {
             )
         }
     });
+    let result = match (result, &run.manifest, run.shard) {
+        (Ok(rows), Some(path), Some(shard)) => {
+            let mut inputs = Vec::new();
+            for name in &run.scene {
+                inputs.push(InputSum::of_scene_input(name)?);
+            }
+            if run.view.is_none() {
+                let (h, n) = *sensor_hash.lock().unwrap_or_else(|e| e.into_inner());
+                inputs.push(InputSum {
+                    name: "<stdin>".into(),
+                    bytes: n,
+                    fnv1a64: h.hex(),
+                });
+            }
+            Manifest {
+                tool: "rdc".into(),
+                version: env!("CARGO_PKG_VERSION").into(),
+                command: run.command.clone(),
+                shard,
+                seed: run.config.seed,
+                first_row: rows.start,
+                rows: rows.len(),
+                total_rows: rows.total,
+                inputs,
+            }
+            .write(path)
+        }
+        (r, _, _) => r.map(|_| ()),
+    };
     if run.stats {
         let trace = t_trace.elapsed().as_secs_f64();
         let rays = tracer.estimator.rays();
@@ -550,7 +646,8 @@ impl Progress {
     }
 }
 
-/// Sensor mode: rays from `reader`, one output row per ray.
+/// Sensor mode: rays from `reader`, one output row per ray (with `--shard`, per ray of the
+/// shard's block: every ray is read, so the split and the seeds are the unsharded run's).
 #[allow(clippy::too_many_arguments)]
 pub fn sensors<R: BufRead, W: Write>(
     run: &Run,
@@ -559,7 +656,7 @@ pub fn sensors<R: BufRead, W: Write>(
     channels: Channels,
     (out, seekable): (W, bool),
     reweight: Option<&ReweightOut>,
-) -> Result<()> {
+) -> Result<Rows> {
     let (command, format) = (&run.command, run.output);
     let irradiance = run.config.irradiance;
     let query = move |r: &SensorRay, _: &mut Rng| sensor_query(r, irradiance);
@@ -576,28 +673,50 @@ pub fn sensors<R: BufRead, W: Write>(
         }
     };
     let ncols = job.mode.ncols();
-    let header = output::header(command, None, &channels, Some(nrows), ncols, format);
+    let rows = Rows::of(run.shard, nrows);
+    let mut header = output::header(command, None, &channels, Some(nrows), ncols, format);
+    rows.mark(run.shard, &mut header);
     // The --se-out file first: an unwritable path must fail before stdout gets a header.
-    let mut se_out = output::SeWriter::open(run.se_out.as_deref(), command, nrows)?;
-    let mut rw_out = ReweightFile::open(reweight, nrows, ncols, job.ncomp)?;
+    let mut se_out = output::SeWriter::open(run.se_out.as_deref(), command, rows.len())?;
+    let mut rw_out = ReweightFile::open(reweight, rows.len(), ncols, job.ncomp)?;
     let mut sink = Sink::matrix(
-        out, header, nrows, ncols, channels, format, run.header, seekable,
+        out,
+        header,
+        rows.len(),
+        ncols,
+        channels,
+        format,
+        run.header,
+        seekable,
     )?;
     let progress = Progress {
         show: crate::io::show_progress(),
         total: Some(nrows),
     };
     let block_len = job.block_len();
-    let mut done = 0usize;
     let mut pending = pending.into_iter();
+    // Rays before the shard's block are read (counted for -y) and skipped.
+    let mut done = 0usize;
+    while done < rows.start {
+        let skipped = if run.y.is_some() {
+            reader.next().transpose()?.is_some()
+        } else {
+            pending.next().is_some()
+        };
+        if !skipped {
+            break;
+        }
+        done += 1;
+    }
     loop {
         let mut block = Vec::with_capacity(block_len);
+        let want = block_len.min(rows.end.saturating_sub(done));
         if run.y.is_some() {
-            for r in reader.by_ref().take(block_len) {
+            for r in reader.by_ref().take(want) {
                 block.push(r?);
             }
         } else {
-            block.extend(pending.by_ref().take(block_len));
+            block.extend(pending.by_ref().take(want));
         }
         if block.is_empty() {
             break;
@@ -619,6 +738,21 @@ pub fn sensors<R: BufRead, W: Write>(
         progress.update(done);
     }
     progress.end();
+    // Rays after the shard's block: read, so that -y's count is still checked.
+    if run.y.is_some() && done == rows.end {
+        for r in reader.by_ref() {
+            r?;
+            done += 1;
+            if done > nrows {
+                return Err(Error::parse(
+                    Location::file("<stdin>"),
+                    format!("more than the {nrows} sensors announced with -y"),
+                ));
+            }
+        }
+    } else if run.y.is_none() {
+        done += pending.len();
+    }
     if done != nrows {
         return Err(Error::parse(
             Location::file("<stdin>"),
@@ -627,7 +761,8 @@ pub fn sensors<R: BufRead, W: Write>(
     }
     se_out.finish()?;
     rw_out.finish()?;
-    sink.finish()
+    sink.finish()?;
+    Ok(rows)
 }
 
 /// Picture mode: one record per pixel, rows top to bottom; a picture under a sky, or with
@@ -640,7 +775,7 @@ fn picture(
     channels: Channels,
     seekable: bool,
     reweight: Option<&ReweightOut>,
-) -> Result<()> {
+) -> Result<Rows> {
     let (command, format) = (&run.command, run.output);
     let cam: Camera = view.setup()?;
     let (xres, yres, _) =
@@ -665,21 +800,30 @@ fn picture(
             quantity: Quantity::Radiance,
         })
     };
-    let nrec = xres * yres;
+    // A shard takes whole scanlines (validated: only per-pixel coefficient rows), so its
+    // rows are pixel rows lines.start * xres .. lines.end * xres.
+    let lines = Rows::of(run.shard, yres);
+    let rows = Rows {
+        start: lines.start * xres,
+        end: lines.end * xres,
+        total: xres * yres,
+    };
+    let nrec = rows.len();
     let ncols = job.mode.ncols();
     let stdout = std::io::stdout();
     let matrix = !matches!(job.mode, Mode::Values);
     let mut se_out = output::SeWriter::open(run.se_out.as_deref(), command, nrec)?;
     let mut rw_out = ReweightFile::open(reweight, nrec, ncols, job.ncomp)?;
     let mut sink = if matrix {
-        let header = output::header(
+        let mut header = output::header(
             command,
             Some(cam.view()),
             &channels,
-            Some(nrec),
+            Some(rows.total),
             ncols,
             format,
         );
+        rows.mark(run.shard, &mut header);
         Sink::matrix(
             stdout.lock(),
             header,
@@ -707,9 +851,9 @@ fn picture(
     };
     // Whole scanlines per block, so picture rows can be written as they complete.
     let lines_per_block = (job.block_len() / xres).max(1);
-    let mut py = 0;
-    while py < yres {
-        let end = (py + lines_per_block).min(yres);
+    let mut py = lines.start;
+    while py < lines.end {
+        let end = (py + lines_per_block).min(lines.end);
         let pixels: Vec<(usize, usize)> = (py..end)
             .flat_map(|y| (0..xres).map(move |x| (x, y)))
             .collect();
@@ -730,12 +874,13 @@ fn picture(
         }
         sink.flush()?;
         py = end;
-        progress.update(py * xres);
+        progress.update((py - lines.start) * xres);
     }
     progress.end();
     se_out.finish()?;
     rw_out.finish()?;
-    sink.finish()
+    sink.finish()?;
+    Ok(rows)
 }
 
 /// Where `--reweight` goes and what its header says.
