@@ -133,6 +133,18 @@ pub struct Analysis {
     pub objects: Vec<GlodObject>,
 }
 
+impl Analysis {
+    /// Assign every object's level again under other thresholds (e.g. [`crate::percentiles`]
+    /// of this scene's own areas).
+    pub fn relevel(&mut self, t: &Thresholds) -> Result<()> {
+        t.validate()?;
+        for o in &mut self.objects {
+            o.level = t.level(o.area);
+        }
+        Ok(())
+    }
+}
+
 /// Simple glob: `*` any run, `?` one character; a pattern without wildcards is a prefix
 /// (`wall` matches `wall_3`). Chosen over a regex dependency: identifiers are short and the
 /// patterns people write for them are globs.
