@@ -9,6 +9,7 @@ pub mod glare;
 pub mod glare_annual;
 pub mod rcalib;
 pub mod rdc;
+pub mod rglod;
 pub mod rinfo;
 pub mod rmetrics;
 pub mod rmtx;
