@@ -181,3 +181,16 @@ slurm-example: build
 
 slurm-stop:
 	bash examples/slurm/stop.sh
+
+# rglod (issue 16, seed chapter 2) on the bundled furnished room: the objects and their levels,
+# then the chapter-2 experiment (each level traced once with the same seed, TAI per sensor
+# under the London year, room TAI / PE / MAPE / RMSE against GLoD4 and trace time per level).
+# Lighter tracing than `example` (-ab 4 -ad 4096) to stay around a minute.
+FURNISHED := examples/furnished
+.PHONY: glod-example
+glod-example: build
+	@mkdir -p $(OUT)/glod
+	$(BIN)/rglod objects $(FURNISHED)/room.rad > $(OUT)/glod/objects.tsv
+	@echo "objects per level: $$(awk -F'\t' 'NR>2 {n[$$NF]++} END {for (l in n) printf "GLoD%s %d  ", l, n[l]}' $(OUT)/glod/objects.tsv)"
+	$(BIN)/rglod study -w $(EPW) --pts $(FURNISHED)/sensors.pts -ab 4 -ad 4096 -lw 1e-4 \
+	    $(FURNISHED)/room.rad | tee $(OUT)/glod/study.tsv

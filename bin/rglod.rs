@@ -5,7 +5,7 @@
 fn main() {
     rdaylight::cli::run("rglod", || {
         let opts = rdaylight::cli::parse_or_exit::<rdaylight::cli::rglod::Options>(
-            std::env::args().collect(),
+            rdaylight::cli::rglod::radiance_spellings(std::env::args()),
         )?;
         let stdout = std::io::stdout();
         let mut out = std::io::BufWriter::new(stdout.lock());

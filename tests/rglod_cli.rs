@@ -115,3 +115,56 @@ fn errors_are_one_line_with_the_place_and_the_fix() {
     assert!(e.contains("bad.rad:2"), "{e}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `rglod study` on the example room's shell with one floating slab (a GLoD1 object, OBB
+/// area 7.05 m2) over one of two sensors: GLoD1-4 keep the slab and trace the same paths
+/// (same seed), so their TAI equals GLoD4's exactly; GLoD0 drops it, and the sensor under it
+/// gains light (positive PE).
+#[test]
+fn study_levels_against_glod4() {
+    let dir = tempfile::tempdir().unwrap();
+    let shell = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/examples/room/room.rad"
+    ))
+    .unwrap();
+    let slab = "wall_mat polygon desk_1.bottom 0 0 12 2 3 0.6 2 4.5 0.6 4 4.5 0.6 4 3 0.6\n\
+         wall_mat polygon desk_1.top 0 0 12 2 3 0.75 4 3 0.75 4 4.5 0.75 2 4.5 0.75\n\
+         wall_mat polygon desk_1.south 0 0 12 2 3 0.6 4 3 0.6 4 3 0.75 2 3 0.75\n\
+         wall_mat polygon desk_1.north 0 0 12 2 4.5 0.6 2 4.5 0.75 4 4.5 0.75 4 4.5 0.6\n\
+         wall_mat polygon desk_1.west 0 0 12 2 3 0.6 2 3 0.75 2 4.5 0.75 2 4.5 0.6\n\
+         wall_mat polygon desk_1.east 0 0 12 4 3 0.6 4 4.5 0.6 4 4.5 0.75 4 3 0.75\n";
+    let room = dir.path().join("room.rad");
+    std::fs::write(&room, format!("{shell}\n{slab}")).unwrap();
+    let pts = dir.path().join("s.pts");
+    std::fs::write(&pts, "3 3.75 0.3 0 0 1\n1 6 0.8 0 0 1\n").unwrap();
+    let epw = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/examples/weather/GBR_London.Gatwick.037760_IWEC.epw"
+    );
+    let t = ok(&[
+        "study",
+        "-w",
+        epw,
+        "--pts",
+        pts.to_str().unwrap(),
+        "-ab",
+        "2",
+        "-ad",
+        "256",
+        "-lw",
+        "1e-3",
+        room.to_str().unwrap(),
+    ]);
+    let rows: Vec<Vec<&str>> = t.lines().skip(1).map(|l| l.split('\t').collect()).collect();
+    assert_eq!(rows.len(), 5, "{t}");
+    let tai = |i: usize| rows[i][3].parse::<f64>().unwrap();
+    let pe = |i: usize| rows[i][4].parse::<f64>().unwrap();
+    for i in 1..5 {
+        assert_eq!(tai(i), tai(4), "GLoD{i} keeps the slab: {t}");
+        assert_eq!(pe(i), 0.0, "{t}");
+    }
+    assert_eq!(rows[0][1], "0", "GLoD0 keeps no object: {t}");
+    assert_eq!(rows[1][1], "1", "{t}");
+    assert!(pe(0) > 5.0, "dropping the slab must brighten the room: {t}");
+}

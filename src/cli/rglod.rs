@@ -56,6 +56,45 @@ pub enum Cmd {
         #[command(flatten)]
         common: Common,
     },
+    /// The chapter-2 experiment for this room: each level traced once (sky coefficients,
+    /// the same seed), TAI per sensor under the weather file's sky (occupied 8-18 h), and per
+    /// level the room TAI, PE, MAPE and RMSE against GLoD4 and the trace time (TSV: the
+    /// seed's Table 2.4).
+    Study {
+        /// Weather file (.epw or .wea) for the sky matrix.
+        #[arg(short = 'w', long = "weather", value_name = "FILE")]
+        weather: String,
+        /// Sensor rays (`x y z dx dy dz` per line).
+        #[arg(long = "pts", value_name = "FILE")]
+        pts: String,
+        /// Diffuse bounces (rdc -ab).
+        #[arg(long = "ab", value_name = "N", default_value_t = 5)]
+        ab: u32,
+        /// Samples per sensor (rdc -ad).
+        #[arg(long = "ad", value_name = "N", default_value_t = 10000)]
+        ad: usize,
+        /// Path weight limit (rdc -lw).
+        #[arg(long = "lw", value_name = "W", default_value_t = 1e-5)]
+        lw: f64,
+        /// Seed, the same for every level.
+        #[arg(short = 's', long = "seed", default_value_t = 1)]
+        seed: u64,
+        /// Worker threads (all cores by default).
+        #[arg(short = 'n', value_name = "N")]
+        threads: Option<usize>,
+        #[command(flatten)]
+        common: Common,
+    },
+}
+
+/// Radiance's spellings of the study's sampling options (`-ab 5` for `--ab 5`).
+pub fn radiance_spellings(args: impl IntoIterator<Item = String>) -> Vec<String> {
+    args.into_iter()
+        .map(|a| match a.as_str() {
+            "-ab" | "-ad" | "-lw" => format!("-{a}"),
+            _ => a,
+        })
+        .collect()
 }
 
 #[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
@@ -221,6 +260,45 @@ pub fn run(opts: &Options, out: &mut dyn Write) -> Result<()> {
             out.write_all(head.as_bytes()).at_path("<stdout>")?;
             kept.write_rad(&mut *out).at_path("<stdout>")?;
             out.write_all(b"\n").at_path("<stdout>")
+        }
+        Cmd::Study {
+            weather,
+            pts,
+            ab,
+            ad,
+            lw,
+            seed,
+            threads,
+            common,
+        } => {
+            let cfg = glod::study::StudyConfig {
+                sampling: crate::rdc::Sampling {
+                    ab: *ab,
+                    ad: *ad,
+                    lw: *lw,
+                    ..crate::rdc::Sampling::default()
+                },
+                seed: *seed,
+                threads: *threads,
+                ..glod::study::StudyConfig::default()
+            };
+            let weather = crate::formats::weather::Weather::read_path(weather)?;
+            let file = std::fs::File::open(pts).map_err(|e| Error::io(pts, e))?;
+            let sensors = crate::formats::sensors::read_rays(
+                std::io::BufReader::new(file),
+                pts,
+                crate::formats::sensors::RayFormat::Ascii,
+            )?;
+            let (scene, a) = common.analyse()?;
+            let show = crate::io::show_progress();
+            let progress = |what: &str| {
+                if show {
+                    eprintln!("rglod study: tracing {what}");
+                }
+            };
+            let results = glod::study::study(&scene, &a, &weather, &sensors, &cfg, &progress)?;
+            out.write_all(glod::study::table(&results).as_bytes())
+                .at_path("<stdout>")
         }
     }
 }

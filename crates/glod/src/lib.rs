@@ -14,6 +14,7 @@
 //! | [`level`] | thresholds, levels, thresholds from percentiles |
 //! | [`filter`] | the scene at one level, with the modifiers it still uses |
 //! | [`report`] | the `rglod objects` table |
+//! | [`study`] | the chapter-2 experiment: TAI per level against GLoD4, trace time (seed Table 2.4) |
 //!
 //! ```
 //! use rdaylight_formats::scene::{self, LoadOptions};
@@ -38,6 +39,7 @@ pub mod obb;
 pub mod objects;
 pub mod points;
 pub mod report;
+pub mod study;
 
 pub use level::{MAX_LEVEL, Thresholds, percentiles};
 pub use obb::{Obb, min_area_obb};
