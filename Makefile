@@ -191,6 +191,8 @@ FURNISHED := examples/furnished
 glod-example: build
 	@mkdir -p $(OUT)/glod
 	$(BIN)/rglod objects $(FURNISHED)/room.rad > $(OUT)/glod/objects.tsv
+	$(BIN)/rglod plan $(FURNISHED)/room.rad > $(OUT)/glod/plan.svg
 	@echo "objects per level: $$(awk -F'\t' 'NR>2 {n[$$NF]++} END {for (l in n) printf "GLoD%s %d  ", l, n[l]}' $(OUT)/glod/objects.tsv)"
 	$(BIN)/rglod study -w $(EPW) --pts $(FURNISHED)/sensors.pts -ab 4 -ad 4096 -lw 1e-4 \
 	    $(FURNISHED)/room.rad | tee $(OUT)/glod/study.tsv
+	@echo "objects: $(OUT)/glod/objects.tsv; plan view by level: $(OUT)/glod/plan.svg"

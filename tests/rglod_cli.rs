@@ -168,3 +168,22 @@ fn study_levels_against_glod4() {
     assert_eq!(rows[1][1], "1", "{t}");
     assert!(pe(0) > 5.0, "dropping the slab must brighten the room: {t}");
 }
+
+/// `rglod plan`: one filled footprint per object of the furnished room, classed by level as
+/// the object table assigns them, inside one SVG document.
+#[test]
+fn plan_view_has_every_object_by_level() {
+    let svg = ok(&["plan", ROOM]);
+    assert!(svg.starts_with("<svg") && svg.trim_end().ends_with("</svg>"));
+    let table = ok(&["objects", ROOM]);
+    for level in 1..=4 {
+        let want = table
+            .lines()
+            .skip(2)
+            .filter(|l| l.ends_with(&format!("\t{level}")))
+            .count();
+        let got = svg.matches(&format!("class=\"glod{level}\"")).count();
+        assert_eq!(got, want, "GLoD{level}");
+    }
+    assert!(svg.matches("class=\"glod").count() >= 30);
+}

@@ -56,6 +56,12 @@ pub enum Cmd {
         #[command(flatten)]
         common: Common,
     },
+    /// A plan view (SVG, north up) of the shell in grey and each object's footprint filled
+    /// with its level's colour, with a legend of the thresholds.
+    Plan {
+        #[command(flatten)]
+        common: Common,
+    },
     /// The chapter-2 experiment for this room: each level traced once (sky coefficients,
     /// the same seed), TAI per sensor under the weather file's sky (occupied 8-18 h), and per
     /// level the room TAI, PE, MAPE and RMSE against GLoD4 and the trace time (TSV: the
@@ -212,7 +218,13 @@ impl Common {
     /// Load the scenes and analyse them (with `--percentiles`, relevelled by the scene's own
     /// area percentiles).
     pub fn analyse(&self) -> Result<(Scene, Analysis)> {
+        self.analyse_levels().map(|(s, a, _)| (s, a))
+    }
+
+    /// [`Common::analyse`] and the thresholds the levels were assigned with.
+    pub fn analyse_levels(&self) -> Result<(Scene, Analysis, glod::Thresholds)> {
         let opts = self.options()?;
+        let mut thresholds = opts.thresholds;
         let scene = scene::load(&self.scenes, &self.load_options())?;
         let mut a = glod::analyse(&scene, &opts)?;
         if self.percentiles {
@@ -225,8 +237,9 @@ impl Common {
                 ))
             })?;
             a.relevel(&t)?;
+            thresholds = t;
         }
-        Ok((scene, a))
+        Ok((scene, a, thresholds))
     }
 }
 
@@ -260,6 +273,11 @@ pub fn run(opts: &Options, out: &mut dyn Write) -> Result<()> {
             out.write_all(head.as_bytes()).at_path("<stdout>")?;
             kept.write_rad(&mut *out).at_path("<stdout>")?;
             out.write_all(b"\n").at_path("<stdout>")
+        }
+        Cmd::Plan { common } => {
+            let (scene, a, t) = common.analyse_levels()?;
+            out.write_all(glod::plan::svg(&scene, &a, &t).as_bytes())
+                .at_path("<stdout>")
         }
         Cmd::Study {
             weather,

@@ -14,6 +14,7 @@
 //! | [`level`] | thresholds, levels, thresholds from percentiles |
 //! | [`filter`] | the scene at one level, with the modifiers it still uses |
 //! | [`report`] | the `rglod objects` table |
+//! | [`plan`] | the plan view, objects coloured by level (SVG) |
 //! | [`study`] | the chapter-2 experiment: TAI per level against GLoD4, trace time (seed Table 2.4) |
 //!
 //! ```
@@ -37,6 +38,7 @@ pub mod filter;
 pub mod level;
 pub mod obb;
 pub mod objects;
+pub mod plan;
 pub mod points;
 pub mod report;
 pub mod study;
