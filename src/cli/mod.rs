@@ -33,6 +33,27 @@ pub fn run(prog: &str, f: impl FnOnce() -> Result<(), Error>) -> ! {
     std::process::exit(code)
 }
 
+/// Radiance spells some options with two letters after one dash (`-ab 5`, `-cs 18`), which
+/// clap can only take as long options: every argument equal to `-NAME` for a `NAME` in
+/// `names` becomes `--NAME`, up to a `--` after which everything is an operand. The one
+/// rewrite every tool with Radiance's letters shares.
+pub fn long_spellings<S: AsRef<str>>(
+    args: impl IntoIterator<Item = S>,
+    names: &[&str],
+) -> Vec<String> {
+    let mut operands = false;
+    args.into_iter()
+        .map(|a| {
+            let a = a.as_ref();
+            operands |= a == "--";
+            match a.strip_prefix('-') {
+                Some(n) if !operands && names.contains(&n) => format!("--{n}"),
+                _ => a.to_string(),
+            }
+        })
+        .collect()
+}
+
 /// Parse `args` (program name first) with clap: `--help`/`--version` print and exit 0; an
 /// error becomes one line (what clap says first) and status 1 like every other error (clap
 /// alone would print a block and exit 2).
@@ -49,4 +70,13 @@ pub fn usage_error(e: clap::Error) -> Error {
     let text = e.to_string();
     let first = text.lines().next().unwrap_or("bad command line");
     Error::Usage(first.trim_start_matches("error: ").to_string())
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn long_spellings_stop_at_the_operands() {
+        let got = super::long_spellings(["x", "-ab", "5", "--ab", "-abc", "--", "-ab"], &["ab"]);
+        assert_eq!(got, ["x", "--ab", "5", "--ab", "-abc", "--", "-ab"]);
+    }
 }

@@ -274,11 +274,7 @@ pub struct SynthArgs {
 
 /// Radiance spellings (-ab 5) to the long options clap knows (--ab 5).
 pub fn radiance_spellings(args: impl Iterator<Item = String>) -> Vec<String> {
-    args.map(|a| match a.as_str() {
-        "-ab" | "-ad" | "-lw" | "-cs" | "-cw" => format!("-{a}"),
-        _ => a,
-    })
-    .collect()
+    super::long_spellings(args, &["ab", "ad", "lw", "cs", "cw"])
 }
 
 fn classes(c: &Option<String>) -> Result<Vec<(String, crate::calib::room::SurfaceClass)>, Error> {

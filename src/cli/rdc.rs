@@ -329,30 +329,23 @@ impl From<PresetArg> for Preset {
 
 /// Rewrite Radiance's option spellings into clap's (program name excluded).
 pub fn radiance_args<S: AsRef<str>>(args: &[S]) -> Vec<String> {
-    const LONG: &[&str] = &[
-        "-ab", "-ad", "-lw", "-lr", "-dj", "-st", "-ss", "-cs", "-cw", "-oi",
-    ];
-    let mut out = Vec::with_capacity(args.len());
-    let mut after_dashes = false;
-    for a in args {
+    // `-I`/`-h` take a Radiance +/- suffix that clap has no spelling for.
+    let mut operands = false;
+    let flags = args.iter().filter_map(|a| {
         let a = a.as_ref();
-        if after_dashes {
-            out.push(a.to_string());
-            continue;
-        }
+        operands |= a == "--";
         match a {
-            "--" => {
-                after_dashes = true;
-                out.push(a.to_string());
-            }
-            "-I" | "-I+" => out.push("--irradiance".into()),
-            "-I-" | "-h+" => {}
-            "-h-" => out.push("-h".into()),
-            _ if LONG.contains(&a) => out.push(format!("-{a}")),
-            _ => out.push(a.to_string()),
+            _ if operands => Some(a),
+            "-I" | "-I+" => Some("--irradiance"),
+            "-I-" | "-h+" => None,
+            "-h-" => Some("-h"),
+            _ => Some(a),
         }
-    }
-    out
+    });
+    super::long_spellings(
+        flags,
+        &["ab", "ad", "lw", "lr", "dj", "st", "ss", "cs", "cw", "oi"],
+    )
 }
 
 /// The command line without `--shard K/N` and `--manifest FILE` (either spelling: `--x v`

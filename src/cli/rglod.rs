@@ -95,12 +95,7 @@ pub enum Cmd {
 
 /// Radiance's spellings of the study's sampling options (`-ab 5` for `--ab 5`).
 pub fn radiance_spellings(args: impl IntoIterator<Item = String>) -> Vec<String> {
-    args.into_iter()
-        .map(|a| match a.as_str() {
-            "-ab" | "-ad" | "-lw" => format!("-{a}"),
-            _ => a,
-        })
-        .collect()
+    super::long_spellings(args, &["ab", "ad", "lw"])
 }
 
 #[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]

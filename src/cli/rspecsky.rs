@@ -256,11 +256,7 @@ pub fn command(args: Vec<String>) -> Result<Command> {
         return genssky_config(args).map(Command::Genssky);
     }
     // Radiance spells the spectral options -cs/-cw; clap's short -c is the sky colour.
-    let clap_args = args.iter().map(|a| match a.as_str() {
-        "-cs" => "--cs".to_string(),
-        "-cw" => "--cw".to_string(),
-        _ => a.clone(),
-    });
+    let clap_args = super::long_spellings(&args, &["cs", "cw"]);
     let m = Options::command()
         .try_get_matches_from(clap_args)
         .map_err(super::usage_error)?;
