@@ -53,7 +53,7 @@ use crate::sky::perez::{
 };
 use crate::sky::{SkyPatches, solar::SunPosition};
 use crate::trace::reweight::Reweighting;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// Lux per unit RGB irradiance (W/m2 per channel).
 pub const LUX_RGB: [f64; 3] = [
@@ -287,22 +287,13 @@ impl Kind {
 pub struct Simulator {
     pub settings: Settings,
     pub cache: Option<PathBuf>,
-    /// Where scene texts are written for tracing (the cache, or a private temp dir).
-    work: PathBuf,
-    own_work: bool,
     sensors_text: String,
     rays: Vec<crate::formats::sensors::SensorRay>,
-    /// `.wea` of the measured steps.
+    /// `.wea` of the measured steps (part of the cache keys) and the same steps parsed once
+    /// (the suns of every sun-coefficient run).
     suns_wea: String,
+    suns: Weather,
     nsteps: usize,
-}
-
-impl Drop for Simulator {
-    fn drop(&mut self) {
-        if self.own_work {
-            let _ = std::fs::remove_dir_all(&self.work);
-        }
-    }
 }
 
 impl Simulator {
@@ -314,14 +305,7 @@ impl Simulator {
         skies: &[StepSky],
     ) -> Result<Simulator> {
         let nsteps = skies.len();
-        let (work, own_work) = match &cache {
-            Some(c) => (c.clone(), false),
-            None => {
-                let n = cache::key(&[suns_wea.as_bytes(), &std::process::id().to_le_bytes()]);
-                (std::env::temp_dir().join(format!("rcalib-{n:016x}")), true)
-            }
-        };
-        std::fs::create_dir_all(&work).map_err(|e| Error::io(work.display().to_string(), e))?;
+        let suns = Weather::parse(&suns_wea, "steps.wea")?;
         let sensors_text: String = sensors
             .iter()
             .map(|s| format!("{:?} {:?}\n", s.ray.org, s.ray.dir))
@@ -329,11 +313,10 @@ impl Simulator {
         Ok(Simulator {
             settings,
             cache,
-            work,
-            own_work,
             sensors_text,
             rays: sensors.iter().map(|s| s.ray).collect(),
             suns_wea,
+            suns,
             nsteps,
         })
     }
@@ -396,14 +379,14 @@ impl Simulator {
     ) -> Result<Vec<RecordResult>> {
         let name = format!("scene-{key:016x}.rad");
         let scene =
-            crate::scene::parse_str(scene_text, &name, &self.work, &LoadOptions::from_env())?;
+            crate::scene::parse_str(scene_text, &name, Path::new(""), &LoadOptions::from_env())?;
         let target = match kind.what {
             What::Sky { direct_only } => Target::Sky {
                 mf: settings.mf,
                 direct_only,
             },
             What::Suns { bounces } => Target::Suns {
-                suns: SunSource::Steps(Weather::parse(&self.suns_wea, "steps.wea")?),
+                suns: SunSource::Steps(self.suns.clone()),
                 angle_deg: SUN_ANGLE_DEG,
                 bounces,
             },
