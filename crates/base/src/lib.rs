@@ -6,6 +6,7 @@
 //! - [`error`]: one error type whose user-input errors carry file, line and column;
 //! - [`radiometry`]: channel layouts (RGB or N spectral bands) and Radiance's RGB constants;
 //! - [`colour`]: colour science (CIE tables, observers, band integrals, melanopic weights);
+//! - [`hash`]: the FNV-1a fingerprint of caches and checksums;
 //! - [`io`]: atomic output (nothing half-written) and stream checks;
 //! - [`stats`]: order statistics (median, percentiles);
 //! - [`vec3`]: 3-vectors ([`vec3::Vec3`] and helpers on `[f64; 3]`).
@@ -19,6 +20,7 @@
 pub mod calendar;
 pub mod colour;
 pub mod error;
+pub mod hash;
 pub mod io;
 pub mod radiometry;
 pub mod stats;

@@ -15,18 +15,16 @@ const MAGIC: &[u8; 9] = b"RCALIBDC1";
 /// crate version and the tracer's [`crate::trace::REVISION`]: a cache written by another
 /// tracer is never read back.
 pub fn key(parts: &[&[u8]]) -> u64 {
-    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    let mut h = rdaylight_base::hash::Fnv64::new();
     let version: [&[u8]; 2] = [
         env!("CARGO_PKG_VERSION").as_bytes(),
         crate::trace::REVISION.as_bytes(),
     ];
     for p in version.iter().chain(parts) {
-        for &b in p.iter().chain(std::iter::once(&0xffu8)) {
-            h ^= u64::from(b);
-            h = h.wrapping_mul(0x0000_0100_0000_01b3);
-        }
+        h.write(p);
+        h.write(&[0xff]);
     }
-    h
+    h.finish()
 }
 
 fn path(dir: &Path, key: u64) -> PathBuf {

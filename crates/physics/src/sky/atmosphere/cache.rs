@@ -23,29 +23,8 @@ use std::path::{Path, PathBuf};
 
 const MAGIC: &[u8; 8] = b"RDAYATM1";
 
-/// FNV-1a, 64 bit (Fowler, Noll, Vo), for checksums and key fingerprints.
-pub struct Fnv(u64);
-
-impl Fnv {
-    pub fn new() -> Self {
-        Fnv(0xcbf2_9ce4_8422_2325)
-    }
-    pub fn write(&mut self, bytes: &[u8]) {
-        for b in bytes {
-            self.0 ^= u64::from(*b);
-            self.0 = self.0.wrapping_mul(0x0000_0100_0000_01b3);
-        }
-    }
-    pub fn finish(&self) -> u64 {
-        self.0
-    }
-}
-
-impl Default for Fnv {
-    fn default() -> Self {
-        Self::new()
-    }
-}
+/// FNV-1a of the keys and bodies (`rdaylight_base::hash`).
+pub use rdaylight_base::hash::Fnv64 as Fnv;
 
 /// Everything that changes a table value, as text.
 pub fn key(atm: &Atmosphere) -> String {
