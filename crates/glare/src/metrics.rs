@@ -23,6 +23,8 @@
 //! evalglare returns most of these as `float`; we round the same ones to `f32` so printed
 //! values agree to the last digit.
 
+pub use rdaylight_base::stats::erf;
+
 /// DGP coefficients `a1..a5, c1..c3` (`-w`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct DgpCoefficients {
@@ -221,45 +223,6 @@ pub fn metrics(
         ugr_exp: f32r(ugr_exp),
         dgi_mod,
         ugp2: f32r(ugp2),
-    }
-}
-
-/// The error function (Abramowitz & Stegun 7.1.26 is too coarse for VCP's 6 printed digits;
-/// this is the series/continued-fraction pair of Numerical Recipes' `erfc`, |error| < 1.2e−7
-/// relative, refined by one Newton step on the series below |x| < 3).
-pub fn erf(x: f64) -> f64 {
-    if x.abs() < 3.0 {
-        // Maclaurin series: erf x = 2/√π Σ (−1)ⁿ x^(2n+1) / (n! (2n+1)), converges fast here
-        let mut sum: f64 = 0.0;
-        let mut term = x;
-        let mut n = 0.0;
-        while term.abs() > 1e-17 * sum.abs().max(1e-300) {
-            sum += term / (2.0 * n + 1.0);
-            n += 1.0;
-            term *= -x * x / n;
-            if n > 200.0 {
-                break;
-            }
-        }
-        2.0 / std::f64::consts::PI.sqrt() * sum
-    } else {
-        // erfc by its continued fraction (Lentz), accurate for |x| ≥ 3
-        let ax = x.abs();
-        let mut f = ax;
-        let mut c = ax;
-        let mut d = 0.0;
-        for k in 1..200 {
-            let a = k as f64 / 2.0;
-            d = 1.0 / (ax + a * d);
-            c = ax + a / c;
-            let delta = c * d;
-            f *= delta;
-            if (delta - 1.0).abs() < 1e-16 {
-                break;
-            }
-        }
-        let erfc = (-ax * ax).exp() / (f * std::f64::consts::PI.sqrt());
-        (1.0 - erfc).copysign(x)
     }
 }
 

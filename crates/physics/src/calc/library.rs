@@ -16,6 +16,8 @@
 //!
 //! A file's own definition of any of these names takes precedence, as in Radiance.
 
+use rdaylight_base::stats::{erf, erfc};
+
 /// Ray channels `$1..$27` as `initfunc` names them.
 pub const RAY_VARIABLES: [(&str, usize); 27] = [
     ("Dx", 1),
@@ -364,71 +366,6 @@ fn rand(x: f64) -> f64 {
     x += 0.785_398_163_397_447 - x.floor();
     x = 1e5 / x;
     x - x.floor()
-}
-
-/// The error function: Maclaurin series below 2.5, `1 - erfc` (continued fraction) above.
-fn erf(x: f64) -> f64 {
-    if x.is_nan() {
-        return x;
-    }
-    if x.abs() < 2.5 {
-        // erf x = 2/sqrt(pi) sum_n (-1)^n x^(2n+1) / (n! (2n+1))
-        let x2 = x * x;
-        let mut term = x;
-        let mut sum = x;
-        for n in 1..200 {
-            term *= -x2 / n as f64;
-            let add = term / (2 * n + 1) as f64;
-            sum += add;
-            if add.abs() < 1e-17 * sum.abs() {
-                break;
-            }
-        }
-        sum * std::f64::consts::FRAC_2_SQRT_PI
-    } else {
-        x.signum() * (1.0 - erfc_cf(x.abs()))
-    }
-}
-
-fn erfc(x: f64) -> f64 {
-    if x.is_nan() {
-        return x;
-    }
-    if x >= 2.5 {
-        erfc_cf(x)
-    } else if x <= -2.5 {
-        2.0 - erfc_cf(-x)
-    } else {
-        1.0 - erf(x)
-    }
-}
-
-/// erfc for x >= 2.5 by the continued fraction
-/// erfc x = exp(-x^2)/sqrt(pi) * 1/(x + (1/2)/(x + 1/(x + (3/2)/(x + ...)))),
-/// evaluated with the modified Lentz method.
-fn erfc_cf(x: f64) -> f64 {
-    let tiny = 1e-300;
-    let mut f = x;
-    let mut c = x;
-    let mut d = 0.0;
-    for k in 1..500 {
-        let a = k as f64 * 0.5;
-        d = x + a * d;
-        if d.abs() < tiny {
-            d = tiny;
-        }
-        c = x + a / c;
-        if c.abs() < tiny {
-            c = tiny;
-        }
-        d = 1.0 / d;
-        let delta = c * d;
-        f *= delta;
-        if (delta - 1.0).abs() < 1e-16 {
-            break;
-        }
-    }
-    (-x * x).exp() / (std::f64::consts::PI.sqrt() * f)
 }
 
 #[cfg(test)]
