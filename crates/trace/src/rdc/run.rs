@@ -210,6 +210,11 @@ pub struct Tracer {
     suns: Option<Vec<SunDisc>>,
     /// Where `--reweight` terms go (the estimator then tracks materials).
     reweight: Option<ReweightOut>,
+    /// Names of the tracked materials (empty without `--reweight`), in the order the
+    /// records' signatures number them.
+    tracked: Vec<String>,
+    /// What each tracked number stands for ([`crate::trace::reweight::Entry`]).
+    entries: Vec<crate::trace::reweight::Entry>,
     /// `--stats` figures: compile time, surfaces, primitives, BVH build.
     compile_time: std::time::Duration,
     nsurfaces: usize,
@@ -266,10 +271,19 @@ impl Tracer {
         };
         let mut estimator = Traced::new(renderable, &sampling, sampling.ad);
         let mut reweight = None;
+        let tracked = tracking
+            .as_ref()
+            .map(|t| t.names.clone())
+            .unwrap_or_default();
+        let entries = tracking
+            .as_ref()
+            .map(|t| t.entries.clone())
+            .unwrap_or_default();
         if let (Some(r), Some(t)) = (&config.reweight, tracking) {
             reweight = r.path.as_ref().map(|path| ReweightOut {
                 path: path.clone(),
                 materials: t.names.clone(),
+                entries: t.entries.clone(),
                 command: command.join(" "),
             });
             estimator = estimator.with_tracking(t);
@@ -281,6 +295,8 @@ impl Tracer {
             patches,
             suns,
             reweight,
+            tracked,
+            entries,
             compile_time,
             nsurfaces,
             nprims,
@@ -291,6 +307,17 @@ impl Tracer {
     /// The configuration this tracer was built for.
     pub fn config(&self) -> &Config {
         &self.config
+    }
+
+    /// The materials re-weighting records track (signature entry `i + 1` is `[i]`).
+    pub fn tracked_materials(&self) -> &[String] {
+        &self.tracked
+    }
+
+    /// What each tracked number of the records' signatures stands for (a material, and for
+    /// glass an angle bin); give it to [`crate::trace::reweight::Reweighting::with_entries`].
+    pub fn tracked_entries(&self) -> &[crate::trace::reweight::Entry] {
+        &self.entries
     }
 
     /// The job every record shares: mode (sky patches, suns or the scene's sky), sampling
@@ -887,6 +914,7 @@ fn picture(
 pub struct ReweightOut {
     pub path: String,
     pub materials: Vec<String>,
+    pub entries: Vec<crate::trace::reweight::Entry>,
     pub command: String,
 }
 
@@ -910,6 +938,7 @@ impl ReweightFile {
         let w = RowWriter::start(
             std::io::BufWriter::new(f),
             &r.materials,
+            &r.entries,
             nrows,
             ncols,
             ncomp,

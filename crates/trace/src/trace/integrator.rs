@@ -322,7 +322,7 @@ impl Renderable {
             t = t * m.shadow_transmission((-dir).to_array(), &s)?;
             if let Some(tr) = track {
                 if scales_with_colour(m, crate::material::SampleKind::PureTransmit) {
-                    events.push(tr.of(info.material));
+                    events.push(tr.of_at(info.material, dir.dot(h.normal)));
                 }
             }
             if t.max() <= 0.0 {
@@ -533,7 +533,10 @@ impl Renderable {
         }
         if let Some(tr) = track {
             if scales_with_colour(v.material, smp.kind) {
-                st.events.push(tr.of(v.index));
+                // The incidence cosine bins glass crossings (a straight pass: `wi` is the
+                // incoming direction continued).
+                let cos = Vec3::from(smp.wi).dot(v.hit.normal);
+                st.events.push(tr.of_at(v.index, cos));
             }
         }
         st.beta = st.beta * smp.weight;
