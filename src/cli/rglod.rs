@@ -88,6 +88,10 @@ pub enum Cmd {
         /// Worker threads (all cores by default).
         #[arg(short = 'n', value_name = "N")]
         threads: Option<usize>,
+        /// Write each level's error map here (the seed's Fig. 2.8): `pe_GLoD{l}.png`, the
+        /// per-sensor percentage error of TAI against GLoD4 over the plan.
+        #[arg(long, value_name = "DIR")]
+        maps: Option<String>,
         #[command(flatten)]
         common: Common,
     },
@@ -282,6 +286,7 @@ pub fn run(opts: &Options, out: &mut dyn Write) -> Result<()> {
             lw,
             seed,
             threads,
+            maps,
             common,
         } => {
             let cfg = glod::study::StudyConfig {
@@ -310,8 +315,44 @@ pub fn run(opts: &Options, out: &mut dyn Write) -> Result<()> {
                 }
             };
             let results = glod::study::study(&scene, &a, &weather, &sensors, &cfg, &progress)?;
+            if let Some(dir) = maps {
+                write_maps(dir, &results, &sensors)?;
+            }
             out.write_all(glod::study::table(&results).as_bytes())
                 .at_path("<stdout>")
         }
     }
+}
+
+/// Per-level maps of the per-sensor TAI percentage error against GLoD4 (PNG).
+fn write_maps(
+    dir: &str,
+    results: &[glod::study::LevelResult],
+    sensors: &[crate::formats::sensors::SensorRay],
+) -> Result<()> {
+    std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
+    let Some(top) = results.last() else {
+        return Ok(());
+    };
+    let points: Vec<[f64; 2]> = sensors.iter().map(|s| [s.org[0], s.org[1]]).collect();
+    for r in results {
+        let pe: Vec<f64> = r
+            .tai
+            .iter()
+            .zip(&top.tai)
+            .map(|(&a, &b)| {
+                if b > 0.0 {
+                    crate::metrics::compare::percentage_error(a, b)
+                } else {
+                    f64::NAN
+                }
+            })
+            .collect();
+        let img = crate::metrics::map::render(&points, &pe)?;
+        let png = crate::metrics::map::png_bytes(&img)?;
+        let path = std::path::Path::new(dir).join(format!("pe_GLoD{}.png", r.level));
+        let p = path.display().to_string();
+        crate::io::write_atomically(&path, |w| w.write_all(&png).map_err(|e| Error::io(&p, e)))?;
+    }
+    Ok(())
 }

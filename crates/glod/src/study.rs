@@ -96,15 +96,7 @@ pub fn study(
             "no sensors: give at least one sensor ray".into(),
         ));
     }
-    let (start, end) = cfg.occupied;
-    let stamps = stamps_from_weather(weather);
-    let schedule = Schedule::from_range(&stamps, start, end, None);
-    if schedule.count() == 0 {
-        return Err(Error::Usage(format!(
-            "occupied {start}-{end} h: no weather step falls in it"
-        )));
-    }
-    let occupied_sky = occupied_sky_sums(weather, cfg.mf, &schedule);
+    let sky = OccupiedSky::new(weather, cfg.mf, cfg.occupied)?;
     let mut out: Vec<LevelResult> = Vec::new();
     for level in 0..=crate::MAX_LEVEL {
         progress(&format!("GLoD{level}"));
@@ -117,10 +109,7 @@ pub fn study(
         let t0 = std::time::Instant::now();
         let rows = Tracer::new(&config, &sub)?.compute(sensors)?;
         let trace_seconds = t0.elapsed().as_secs_f64();
-        let tai: Vec<f64> = rows
-            .iter()
-            .map(|r| tai_of_row(&r.values, &occupied_sky, schedule.step_hours))
-            .collect();
+        let tai: Vec<f64> = rows.iter().map(|r| sky.tai_of_row(&r.values)).collect();
         let room_tai = tai.iter().sum::<f64>() / tai.len() as f64;
         out.push(LevelResult {
             level,
@@ -154,34 +143,80 @@ pub fn study(
     Ok(out)
 }
 
-/// `S_p` per channel: the sky matrix's occupied columns summed, `[patch * 3 + c]`.
-fn occupied_sky_sums(weather: &Weather, mf: usize, schedule: &Schedule) -> Vec<f64> {
-    let patches = SkyPatches::new(mf);
-    let opts = MatrixOptions {
-        perez: PerezOptions::default(),
-        colours: Colours::gendaymtx(),
-        skip_night: false,
-    };
-    let m = sky_matrix(
-        &patches,
-        &time_steps(weather),
-        &weather.site,
-        &opts,
-        &|_, _| {},
-    );
-    let mut sums = vec![0.0; m.nrows() * 3];
-    let mut row = Vec::new();
-    for p in 0..m.nrows() {
-        m.row(p, &mut row);
-        for (k, &col) in m.columns().iter().enumerate() {
-            if schedule.occupied.get(col).copied().unwrap_or(false) {
-                for c in 0..3 {
-                    sums[p * 3 + c] += row[k * 3 + c];
+/// The occupied part of a year's sky matrix (gendaymtx's defaults: sun in the patches,
+/// gendaymtx colours) for everything that multiplies coefficients by it: the per-hour
+/// values (hour-based metrics) and their sums over the occupied hours (TAI).
+#[derive(Debug, Clone)]
+pub struct OccupiedSky {
+    /// Sky columns (patches, ground first).
+    pub npatches: usize,
+    /// Occupied weather steps, in file order.
+    pub hours: usize,
+    /// `values[(p * 3 + c) * hours + h]`: patch `p`, channel `c`, occupied step `h`
+    /// (W sr-1 m-2), f32 as in a Radiance matrix file.
+    pub values: Vec<f32>,
+    /// `S_p` per channel: the occupied columns summed, `[p * 3 + c]`.
+    pub sums: Vec<f64>,
+    /// Length of one step (h).
+    pub step_hours: f64,
+}
+
+impl OccupiedSky {
+    /// The sky of `weather` over Reinhart `mf` patches, occupied `start <= hour < end`.
+    pub fn new(weather: &Weather, mf: usize, occupied: (f64, f64)) -> Result<OccupiedSky> {
+        let (start, end) = occupied;
+        let stamps = stamps_from_weather(weather);
+        let schedule = Schedule::from_range(&stamps, start, end, None);
+        if schedule.count() == 0 {
+            return Err(Error::Usage(format!(
+                "occupied {start}-{end} h: no weather step falls in it"
+            )));
+        }
+        let patches = SkyPatches::new(mf);
+        let opts = MatrixOptions {
+            perez: PerezOptions::default(),
+            colours: Colours::gendaymtx(),
+            skip_night: false,
+        };
+        let m = sky_matrix(
+            &patches,
+            &time_steps(weather),
+            &weather.site,
+            &opts,
+            &|_, _| {},
+        );
+        let hours = schedule.count();
+        let np = m.nrows();
+        let mut values = vec![0f32; np * 3 * hours];
+        let mut sums = vec![0.0; np * 3];
+        let mut row = Vec::new();
+        for p in 0..np {
+            m.row(p, &mut row);
+            let mut h = 0;
+            for (k, &col) in m.columns().iter().enumerate() {
+                if schedule.occupied.get(col).copied().unwrap_or(false) {
+                    for c in 0..3 {
+                        let v = row[k * 3 + c];
+                        sums[p * 3 + c] += v;
+                        values[(p * 3 + c) * hours + h] = v as f32;
+                    }
+                    h += 1;
                 }
             }
         }
+        Ok(OccupiedSky {
+            npatches: np,
+            hours,
+            values,
+            sums,
+            step_hours: schedule.step_hours,
+        })
     }
-    sums
+
+    /// TAI (klx h) of one sensor's coefficient row (`npatches * 3`), seed Eq. 4.1 / 1000.
+    pub fn tai_of_row(&self, dc: &[f64]) -> f64 {
+        tai_of_row(dc, &self.sums, self.step_hours)
+    }
 }
 
 /// TAI (klx h) of one sensor's coefficient row (`ncols * 3`) against the occupied sky sums.
