@@ -187,12 +187,24 @@ slurm-stop:
 # under the London year, room TAI / PE / MAPE / RMSE against GLoD4 and trace time per level).
 # Lighter tracing than `example` (-ab 4 -ad 4096) to stay around a minute.
 FURNISHED := examples/furnished
-.PHONY: glod-example
+.PHONY: glod-example glod-mcop-example
 glod-example: build
 	@mkdir -p $(OUT)/glod
 	$(BIN)/rglod objects $(FURNISHED)/room.rad > $(OUT)/glod/objects.tsv
 	$(BIN)/rglod plan $(FURNISHED)/room.rad > $(OUT)/glod/plan.svg
 	@echo "objects per level: $$(awk -F'\t' 'NR>2 {n[$$NF]++} END {for (l in n) printf "GLoD%s %d  ", l, n[l]}' $(OUT)/glod/objects.tsv)"
 	$(BIN)/rglod study -w $(EPW) --pts $(FURNISHED)/sensors.pts -ab 4 -ad 4096 -lw 1e-4 \
-	    $(FURNISHED)/room.rad | tee $(OUT)/glod/study.tsv
-	@echo "objects: $(OUT)/glod/objects.tsv; plan view by level: $(OUT)/glod/plan.svg"
+	    --maps $(OUT)/glod $(FURNISHED)/room.rad | tee $(OUT)/glod/study.tsv
+	@echo "objects: $(OUT)/glod/objects.tsv; plan view by level: $(OUT)/glod/plan.svg; error maps: $(OUT)/glod/pe_GLoD*.png"
+
+# rmcop (issue 16, seed chapter 3) after rglod: every GLoD traced once at the main job's
+# settings (-ab 5 -ad 10000 -lw 1e-5) with path re-weighting records, 500 draws per GLoD x
+# MCoP cell (sigma 0.05-0.20 on every material's reflectance or transmittance), the seed's
+# Fig. 3.6 box plots, Fig. 3.5 KS curves, Fig. 3.10 spread maps; then the per-cell table.
+glod-mcop-example: glod-example
+	$(BIN)/rmcop study -w $(EPW) --pts $(FURNISHED)/sensors.pts -o $(OUT)/mcop \
+	    $(FURNISHED)/room.rad > /dev/null
+	@awk -F'\t' 'BEGIN {printf "%-6s %5s %9s %7s %15s %7s %9s %8s\n", "level", "MCoP", "TAI_med", "IQR", "5-95%", "MAPE%", "MAPE4%", "K2_p"} \
+	    NR>1 {printf "%-6s %5s %9.0f %7.0f %7.0f-%-7.0f %7s %9s %8s\n", $$1, $$2, $$5, $$7-$$6, $$8, $$9, $$13, $$14, $$16}' \
+	    $(OUT)/mcop/cells.tsv
+	@echo "tables and plots: $(OUT)/mcop/ (cells.tsv sensors.tsv convergence.tsv materials.tsv boxplot.svg convergence.svg spread_*.png)"

@@ -9,7 +9,7 @@
 //! | formats | `rdaylight-formats` | [`formats`], [`scene`], [`info`] |
 //! | core physics | `rdaylight-physics` | [`geometry`], [`material`], [`sky`], [`calc`], [`uplift`] (the method) |
 //! | tracer | `rdaylight-trace` | [`trace`], [`rdc`] |
-//! | analyses | `rdaylight-metrics`, `-glare`, `-glod`, `-reflectance`, `-calib`, `-recon` | [`metrics`], [`glare`], [`glod`], [`uplift`] (pictures, validation), [`calib`], [`recon`] |
+//! | analyses | `rdaylight-metrics`, `-glare`, `-glod`, `-mcop`, `-reflectance`, `-calib`, `-recon` | [`metrics`], [`glare`], [`glod`], [`mcop`], [`uplift`] (pictures, validation), [`calib`], [`recon`] |
 //! | tools | this crate | [`cli`] and the binaries in `bin/` |
 //!
 //! Everything reads and writes Radiance's own formats so that any one tool can replace one
@@ -50,6 +50,7 @@ pub use rdaylight_trace::{rdc, trace};
 pub use rdaylight_calib as calib;
 pub use rdaylight_glare as glare;
 pub use rdaylight_glod as glod;
+pub use rdaylight_mcop as mcop;
 pub use rdaylight_metrics as metrics;
 pub use rdaylight_recon as recon;
 

@@ -11,6 +11,7 @@ pub mod rcalib;
 pub mod rdc;
 pub mod rglod;
 pub mod rinfo;
+pub mod rmcop;
 pub mod rmetrics;
 pub mod rmtx;
 pub mod rrecon;

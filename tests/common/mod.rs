@@ -115,6 +115,7 @@ pub fn ours(bin: &str) -> Command {
         "rmetrics" => env!("CARGO_BIN_EXE_rmetrics"),
         "rglare" => env!("CARGO_BIN_EXE_rglare"),
         "ruplift" => env!("CARGO_BIN_EXE_ruplift"),
+        "rmcop" => env!("CARGO_BIN_EXE_rmcop"),
         other => panic!("unknown binary {other}"),
     };
     Command::new(path)
