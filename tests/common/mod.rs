@@ -115,6 +115,9 @@ pub fn ours(bin: &str) -> Command {
         "rmetrics" => env!("CARGO_BIN_EXE_rmetrics"),
         "rglare" => env!("CARGO_BIN_EXE_rglare"),
         "ruplift" => env!("CARGO_BIN_EXE_ruplift"),
+        "rcalib" => env!("CARGO_BIN_EXE_rcalib"),
+        "rrecon" => env!("CARGO_BIN_EXE_rrecon"),
+        "rglod" => env!("CARGO_BIN_EXE_rglod"),
         other => panic!("unknown binary {other}"),
     };
     Command::new(path)
