@@ -50,6 +50,25 @@ pub struct Args {
 
 const USAGE: &str = "usage: rglare [-d|-V] [-c check.hdr] [-b thres] [-r radius] [-y|-x|-Y limit] [-s] [-t|-T x y r] [-C l+|l-|0] [-q 0|1|2] [-P 0|1] [-w a1 a2 a3 a4 a5 c1 c2 c3] [view options] [picture ...]; or rglare annual ... (rglare annual --help)";
 
+/// What `rglare --help` prints after the usage line (the table of the module documentation).
+const HELP: &str = "\
+Glare of fisheye and perspective HDR pictures (DGP, DGI, UGR, VCP, CGI, Ev), evalglare 3.x output.
+  -d               detailed output (source table + 23 values)
+  -V               vertical illuminance only
+  -c file          check picture (one input picture only)
+  -b f             threshold: > 100 absolute cd/m2, else f x task (or mean) luminance
+  -r rad           search radius (default 0.2)
+  -y / -x / -Y L   peak extraction on (default) / off / on with limit L
+  -s               smoothing
+  -t x y r         task area (pixel x, y from the bottom; opening r rad); -T the same
+  -C l+|l-|0       low-light correction on / off (default) / off
+  -q 0|1|2         background luminance
+  -P 0|1           position index model (Guth/Iwata, Kim)
+  -w a1..a5 c1..c3 DGP coefficients
+  -vf file, -vt? -vh -vv -vd -vu -vp ...   view, replacing the header's
+Pictures are files or standard input (several pictures may follow each other in a stream).
+Imageless annual glare: rglare annual --help";
+
 fn num(args: &[String], i: usize, opt: &str) -> Result<f64> {
     let v = args
         .get(i)
@@ -268,6 +287,16 @@ pub fn run(raw: &[String]) -> Result<()> {
     use rayon::prelude::*;
     if raw.first().map(String::as_str) == Some("annual") {
         return super::glare_annual::run(&raw[1..]);
+    }
+    // evalglare has no help option; ours prints the usage and the option table, exit 0,
+    // as every other tool's --help does.
+    if raw.iter().any(|a| a == "--help" || a == "-help") {
+        println!("{USAGE}\n\n{HELP}");
+        return Ok(());
+    }
+    if raw.iter().any(|a| a == "--version") {
+        println!("rglare {}", env!("CARGO_PKG_VERSION"));
+        return Ok(());
     }
     let mut args = Args::parse(raw)?;
     if args.files.is_empty() {

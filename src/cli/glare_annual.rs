@@ -44,6 +44,25 @@ fn value<'a>(args: &'a [String], i: usize, opt: &str) -> Result<&'a str> {
         .ok_or_else(|| Error::Usage(format!("{opt} needs a value; {USAGE}")))
 }
 
+/// Most view rays per side (`--rays`): 1024 x 1024 rays already resolve a 180° view to
+/// 0.18°, a third of the sun's disc, and each ray holds a row of sky coefficients.
+const MAX_RAYS: usize = 1024;
+
+/// A whole number from 1 to `max` (`--rays`, `--eye-ad`): a count, so neither a fraction
+/// nor a value that would run for ever (issue #19: `--eye-ad 1e15`).
+fn count(args: &[String], i: usize, opt: &str, max: usize, why: &str) -> Result<usize> {
+    let v = number(args, i, opt)?;
+    if v < 1.0 || v.fract() != 0.0 {
+        return Err(Error::Usage(format!(
+            "{opt}: '{}' is not a whole number >= 1",
+            args[i]
+        )));
+    }
+    // Saturating: anything beyond u64 is beyond every limit.
+    crate::error::at_most(opt, v as u64, max as u64, why)?;
+    Ok(v as usize)
+}
+
 fn number(args: &[String], i: usize, opt: &str) -> Result<f64> {
     let v = value(args, i, opt)?;
     v.parse::<f64>()
@@ -77,11 +96,13 @@ impl AnnualArgs {
                 }
                 "--rays" => {
                     i += 1;
-                    grid = number(&rest, i, a)? as usize;
+                    let why = "a 1024 x 1024 grid resolves a 180 degree view to 0.18 degrees";
+                    grid = count(&rest, i, a, MAX_RAYS, why)?;
                 }
                 "--eye-ad" => {
                     i += 1;
-                    eye_ad = (number(&rest, i, a)? as usize).max(1);
+                    let why = "2^24 samples: standard error 1/4096 of one sample's spread";
+                    eye_ad = count(&rest, i, a, crate::rdc::config::MAX_AD, why)?;
                 }
                 "-b" => {
                     i += 1;
@@ -168,8 +189,9 @@ impl AnnualArgs {
         let rdc_args: Vec<String> = std::iter::once("rdc".to_string())
             .chain(super::rdc::radiance_args(&pass[1..]))
             .collect();
+        // One line, as every usage error (clap's own text is a block).
         let rdc = super::rdc::Options::try_parse_from(rdc_args)
-            .map_err(|e| Error::Usage(format!("rdc options: {}", e.to_string().trim())))?;
+            .map_err(|e| Error::Usage(format!("rdc options: {}", super::usage_error(e))))?;
         if rdc.scene.is_empty() {
             return Err(Error::Usage(format!("no scene files; {USAGE}")));
         }
@@ -282,6 +304,10 @@ pub fn report(
 
 /// Run `rglare annual` with the arguments after `annual`.
 pub fn run(raw: &[String]) -> Result<()> {
+    if raw.iter().any(|a| a == "--version") {
+        println!("rglare {}", env!("CARGO_PKG_VERSION"));
+        return Ok(());
+    }
     if raw.iter().any(|a| a == "--help" || a == "-help") {
         println!(
             "{USAGE}\n\nImageless DGP per weather step (dcglare's counterpart) from daylight coefficients \

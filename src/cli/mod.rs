@@ -55,6 +55,17 @@ pub fn long_spellings<S: AsRef<str>>(
         .collect()
 }
 
+/// clap's parser for every real-valued option: Rust's `f64` parsing takes `nan`, `inf` and
+/// `1e999`, which no option means (issue #19: `rmtx -s inf` and `rdc -cw 380 inf` were
+/// accepted); clap turns the message into `invalid value 'nan' for '-s <F>': ...`.
+pub fn finite(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(v) if v.is_finite() => Ok(v),
+        Ok(_) => Err("expected a finite number".into()),
+        Err(e) => Err(e.to_string()),
+    }
+}
+
 /// Parse `args` (program name first) with clap: `--help`/`--version` print and exit 0; an
 /// error becomes one line (what clap says first) and status 1 like every other error (clap
 /// alone would print a block and exit 2).

@@ -91,13 +91,13 @@ pub struct SpectralArgs {
     #[arg(long = "cs", default_value_t = 18)]
     pub cs: usize,
     /// Simulated wavelength range in nm (Radiance -cw).
-    #[arg(long = "cw", num_args = 2, default_values_t = [380.0, 780.0])]
+    #[arg(value_parser = super::finite, long = "cw", num_args = 2, default_values_t = [380.0, 780.0])]
     pub cw: Vec<f64>,
     /// Also explain: fit the photopic effects and the glazing tint, print `--effect`s.
     #[arg(long)]
     pub explain: bool,
     /// Assumed per-sensor spread for --explain (relative).
-    #[arg(long, default_value_t = DEFAULT_SENSOR_SIGMA)]
+    #[arg(value_parser = super::finite, long, default_value_t = DEFAULT_SENSOR_SIGMA)]
     pub sensor_sigma: f64,
     /// Write the selected effects here as `--effect SPEC` arguments for `rcalib apply`
     /// (with --explain; else the selected window option).
@@ -122,11 +122,11 @@ pub struct SimArgs {
     #[arg(long = "ad", default_value_t = Settings::model().ad)]
     pub ad: usize,
     /// Path weight limit (Radiance -lw).
-    #[arg(long = "lw", default_value_t = Settings::model().lw)]
+    #[arg(value_parser = super::finite, long = "lw", default_value_t = Settings::model().lw)]
     pub lw: f64,
     /// Sample each sensor until its relative standard error is below this (rdc
     /// --target-se --se-row; 0: exactly -ad samples, as Radiance).
-    #[arg(long = "target-se", default_value_t = Settings::model().target_se.unwrap_or(0.0))]
+    #[arg(value_parser = super::finite, long = "target-se", default_value_t = Settings::model().target_se.unwrap_or(0.0))]
     pub target_se: f64,
     /// Cap on samples per sensor with --target-se.
     #[arg(long = "max-samples", default_value_t = Settings::model().max_samples)]
@@ -190,7 +190,7 @@ pub struct ExplainArgs {
     #[arg(long)]
     pub effects: Option<String>,
     /// Assumed per-sensor spread (calibration class + model noise), relative.
-    #[arg(long, default_value_t = DEFAULT_SENSOR_SIGMA)]
+    #[arg(value_parser = super::finite, long, default_value_t = DEFAULT_SENSOR_SIGMA)]
     pub sensor_sigma: f64,
     /// Write the selected effects here as `--effect SPEC` arguments for `rcalib apply`
     /// (empty when nothing significant is missing).

@@ -63,7 +63,7 @@ Examples:
 /// Without -y, sensors (not results) are read first to count them, so NROWS is always in
 /// the header (rmtxop needs it); with -y the input streams in constant memory.
 #[derive(Parser, Debug, Clone)]
-#[command(name = "rdc", disable_help_flag = true, after_help = EXAMPLES)]
+#[command(name = "rdc", version, disable_help_flag = true, after_help = EXAMPLES)]
 pub struct Options {
     /// Ambient bounces (rcontrib -ab; default 1): at most N diffuse bounces per path, the
     /// -I sensor's hemisphere sample counting as the first; specular bounces do not count.
@@ -79,7 +79,7 @@ pub struct Options {
     /// Path weight limit (rcontrib -lw; default 2e-3): a path whose weight (1/-ad x
     /// throughput for -I samples, as Radiance weighs ambient rays) falls below W continues
     /// with probability weight/W (Russian roulette, unbiased: only the noise depends on W).
-    #[arg(long = "lw", value_name = "W")]
+    #[arg(value_parser = super::finite, long = "lw", value_name = "W")]
     pub lw: Option<f64>,
 
     /// Reflection limit (rcontrib -lr; default -10): at most |N| reflections and
@@ -92,18 +92,18 @@ pub struct Options {
     /// Source jitter (rcontrib -dj; default 0.9). Shadow rays aim at the source centre (no
     /// jitter); F only widens the sun's specular highlight on flat surfaces by (1-F) x
     /// omega/4pi, as Radiance's shading does. No effect on -m/--suns coefficients.
-    #[arg(long = "dj", value_name = "F")]
+    #[arg(value_parser = super::finite, long = "dj", value_name = "F")]
     pub dj: Option<f64>,
 
     /// Specular threshold (rcontrib -st; default 0.02): rough specular lobes whose
     /// coefficient is at or below F are folded into the diffuse sample, as Radiance's
     /// normal.c does.
-    #[arg(long = "st", value_name = "F")]
+    #[arg(value_parser = super::finite, long = "st", value_name = "F")]
     pub st: Option<f64>,
 
     /// Specular sampling (rcontrib -ss; default 1). Accepted and ignored: every specular
     /// vertex takes one sampled direction weighted as Radiance's -ss 1.
-    #[arg(long = "ss", value_name = "F")]
+    #[arg(value_parser = super::finite, long = "ss", value_name = "F")]
     pub ss: Option<f64>,
 
     /// Named sample settings: draft (-ab 3 -ad 1024 -lw 1e-3), standard (-ab 5 -ad 4096
@@ -149,7 +149,7 @@ pub struct Options {
     pub suns_ab: bool,
 
     /// Full apex angle of the --suns discs in degrees (gendaymtx -5 0.533).
-    #[arg(long = "sun-angle", value_name = "DEG", default_value_t = crate::rdc::config::SUN_ANGLE_DEG)]
+    #[arg(value_parser = super::finite, long = "sun-angle", value_name = "DEG", default_value_t = crate::rdc::config::SUN_ANGLE_DEG)]
     pub sun_angle: f64,
 
     /// Number of spectral channels (Radiance -cs; default 3 = RGB).
@@ -157,7 +157,7 @@ pub struct Options {
     pub cs: Option<usize>,
 
     /// Wavelength range of -cs channels in nm (Radiance -cw; default 380 780).
-    #[arg(long = "cw", num_args = 2, value_names = ["MIN", "MAX"])]
+    #[arg(value_parser = super::finite, long = "cw", num_args = 2, value_names = ["MIN", "MAX"])]
     pub cw: Option<Vec<f64>>,
 
     /// How RGB reflectances and transmittances (plastic, metal, trans, mirror, glass)
@@ -206,7 +206,7 @@ pub struct Options {
     /// Stop sampling a record once its relative standard error (RMS of the column SEs over
     /// the mean column value) is below this target; samples come in batches of -ad, at
     /// most --max-samples (no Radiance counterpart: Radiance only has a fixed -ad).
-    #[arg(long = "target-se", value_name = "REL")]
+    #[arg(value_parser = super::finite, long = "target-se", value_name = "REL")]
     pub target_se: Option<f64>,
 
     /// With --target-se: the target applies to the standard error of each record's row sum

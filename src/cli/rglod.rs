@@ -80,7 +80,7 @@ pub enum Cmd {
         #[arg(long = "ad", value_name = "N", default_value_t = 10000)]
         ad: usize,
         /// Path weight limit (rdc -lw).
-        #[arg(long = "lw", value_name = "W", default_value_t = 1e-5)]
+        #[arg(value_parser = super::finite, long = "lw", value_name = "W", default_value_t = 1e-5)]
         lw: f64,
         /// Seed, the same for every level.
         #[arg(short = 's', long = "seed", default_value_t = 1)]
@@ -131,10 +131,10 @@ pub struct Common {
     #[arg(long, default_value = ".")]
     pub separator: String,
     /// Distance (m) within which vertices are shared, for --by connectivity.
-    #[arg(long, value_name = "M", default_value_t = 1e-3)]
+    #[arg(value_parser = super::finite, long, value_name = "M", default_value_t = 1e-3)]
     pub connect_tol: f64,
     /// Distance (m) within which a polygon lies on an enclosing plane of the room (shell).
-    #[arg(long, value_name = "M", default_value_t = 0.01)]
+    #[arg(value_parser = super::finite, long, value_name = "M", default_value_t = 0.01)]
     pub tolerance: f64,
     /// Axes of the room box whose faces are the enclosing planes.
     #[arg(long, value_enum, default_value = "axes")]
@@ -162,7 +162,7 @@ pub struct Common {
 pub fn parse_thresholds(s: &str) -> Result<Thresholds> {
     let v: Vec<f64> = s
         .split(',')
-        .map(|x| x.trim().parse::<f64>())
+        .map(|x| super::finite(x.trim()))
         .collect::<std::result::Result<_, _>>()
         .map_err(|_| {
             Error::Usage(format!(

@@ -53,10 +53,10 @@ pub struct Options {
     #[arg(long, value_name = "LOW,MID,HIGH", default_value = "100,300,3000")]
     pub udi: String,
     /// Daylight Autonomy threshold in lux (E >= DA counts).
-    #[arg(long, value_name = "LUX", default_value_t = 300.0)]
+    #[arg(value_parser = super::finite, long, value_name = "LUX", default_value_t = 300.0)]
     pub da: f64,
     /// sDA: a sensor passes when its DA is at least this percentage.
-    #[arg(long, value_name = "PERCENT", default_value_t = 50.0)]
+    #[arg(value_parser = super::finite, long, value_name = "PERCENT", default_value_t = 50.0)]
     pub sda: f64,
     /// ASE thresholds LUX,HOURS: direct sun above LUX for more than HOURS occupied hours.
     #[arg(long, value_name = "LUX,HOURS", default_value = "1000,250")]
@@ -133,7 +133,7 @@ pub enum Cmd {
         #[arg(long, value_name = "FILE")]
         summary: Option<String>,
         /// m-EDI threshold in lx for the summary (Brown et al. 2022 daytime: 250).
-        #[arg(long, value_name = "LUX", default_value_t = crate::metrics::melanopic::DAYTIME_MEDI_LX)]
+        #[arg(value_parser = super::finite, long, value_name = "LUX", default_value_t = crate::metrics::melanopic::DAYTIME_MEDI_LX)]
         threshold: f64,
         /// Sensor points (one per row) for the summary's x y z and for --png.
         #[arg(long, value_name = "FILE")]
@@ -150,7 +150,7 @@ pub enum Cmd {
         /// it that must reach --threshold.
         #[arg(long, value_name = "START-END", default_value = "8-12")]
         morning: String,
-        #[arg(long, value_name = "HOURS", default_value_t = 4.0)]
+        #[arg(value_parser = super::finite, long, value_name = "HOURS", default_value_t = 4.0)]
         min_hours: f64,
     },
     /// PE, MAPE, RMSE (seed Appendix A) of variants against a benchmark: two or more
@@ -187,7 +187,7 @@ fn numbers(s: &str, what: &str, n: usize) -> Result<Vec<f64>> {
         .map(|x| x.trim().parse::<f64>())
         .collect::<std::result::Result<_, _>>()
         .map_err(|_| bad())?;
-    if v.len() != n {
+    if v.len() != n || v.iter().any(|x| !x.is_finite()) {
         return Err(bad());
     }
     Ok(v)

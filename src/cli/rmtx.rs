@@ -33,7 +33,7 @@ Examples:
 /// wherever they appear (unlike rmtxop, where options before a matrix apply to that matrix).
 /// EXPOSURE=/COLORCORR= in input headers are divided out on load, as rmtxop does.
 #[derive(Parser, Debug)]
-#[command(name = "rmtx", disable_help_flag = true, after_help = EXAMPLES)]
+#[command(name = "rmtx", version, disable_help_flag = true, after_help = EXAMPLES)]
 pub struct Options {
     /// Output format a|f|d|c (-fa ascii, -ff float, -fd double, -fc RGBE picture rows or
     /// Radiance_spectra for NCOMP > 3; rmtxop -f). Default: the
@@ -108,6 +108,15 @@ impl Options {
             .map_err(super::usage_error)?;
         let mut opts = Options::from_arg_matches(&m).map_err(super::usage_error)?;
         let mut inputs: Vec<(usize, String)> = indexed(&m, "inputs");
+        // A number that is not finite is an error, not a file name (`-c nan`, `-s inf`).
+        for (id, opt) in [("coefs", "-c"), ("scale", "-s")] {
+            if let Some((_, v)) = indexed(&m, id)
+                .into_iter()
+                .find(|(_, v)| v.parse::<f64>().is_ok_and(|x| !x.is_finite()))
+            {
+                return Err(Error::Usage(format!("{opt} {v}: expected finite numbers")));
+            }
+        }
         let split = |id: &str, symbolic: bool, inputs: &mut Vec<(usize, String)>| {
             let vals = indexed(&m, id);
             let mut n = vals

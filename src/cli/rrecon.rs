@@ -25,7 +25,7 @@ Examples:
 /// (PolyFit-style selection, solved exactly), windows from holes in the wall points, and a
 /// `.rad` model with named surfaces and default materials (opaque 0.5, glazing 0.75).
 #[derive(Parser, Debug)]
-#[command(name = "rrecon", after_help = EXAMPLES, args_conflicts_with_subcommands = true)]
+#[command(name = "rrecon", version, after_help = EXAMPLES, args_conflicts_with_subcommands = true)]
 pub struct Cli {
     #[command(subcommand)]
     pub command: Option<Command>,
@@ -63,10 +63,10 @@ pub struct Simulate {
     #[arg(long)]
     pub stations: Option<String>,
     /// Angular step, degrees.
-    #[arg(long, default_value_t = 0.25)]
+    #[arg(value_parser = super::finite, long, default_value_t = 0.25)]
     pub resolution: f64,
     /// Range noise (standard deviation), metres.
-    #[arg(long, default_value_t = 0.003)]
+    #[arg(value_parser = super::finite, long, default_value_t = 0.003)]
     pub noise: f64,
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
@@ -112,13 +112,13 @@ pub struct Recon {
     #[arg(long, default_value_t = 1000)]
     pub min_support: usize,
     /// RANSAC distance threshold, metres (seed: 0.005).
-    #[arg(long, default_value_t = 0.005)]
+    #[arg(value_parser = super::finite, long, default_value_t = 0.005)]
     pub epsilon: f64,
     /// Window gap size (empty-circle diameter), metres (seed: 0.08).
-    #[arg(long, default_value_t = 0.08)]
+    #[arg(value_parser = super::finite, long, default_value_t = 0.08)]
     pub edge_threshold: f64,
     /// Smallest candidate region, m² (seed: 0.001 = 10 cm²).
-    #[arg(long, default_value_t = 0.001)]
+    #[arg(value_parser = super::finite, long, default_value_t = 0.001)]
     pub min_area: f64,
     /// Random seed (RANSAC).
     #[arg(long, default_value_t = 1)]

@@ -61,7 +61,7 @@ Examples:
 /// sky and ground glow sources, ready for oconv/rtrace. Here -m, -o and -a are gendaylit's
 /// meridian, longitude and latitude (degrees, west positive).
 #[derive(Parser, Debug)]
-#[command(name = "rspecsky", disable_help_flag = true, after_help = EXAMPLES)]
+#[command(name = "rspecsky", version, disable_help_flag = true, after_help = EXAMPLES)]
 pub struct Options {
     /// Reinhart multiplication factor MF (gendaymtx -m; default 1 = Tregenza's 145 patches
     /// + ground). With --at: standard meridian in degrees west (gendaylit -m).
@@ -82,21 +82,21 @@ pub struct Options {
 
     /// Five-phase sun: each sun in one patch, with the solid angle of a disc of this
     /// diameter in degrees (gendaymtx -5, usually 0.533).
-    #[arg(short = '5', value_name = "DEG")]
+    #[arg(value_parser = super::finite, short = '5', value_name = "DEG")]
     pub five: Option<f64>,
 
     /// Ground reflectance r g b (gendaymtx -g; default 0.2 0.2 0.2; gendaylit -g takes the
     /// mean, the colour goes to the ground glow).
-    #[arg(short = 'g', num_args = 3, value_names = ["R", "G", "B"])]
+    #[arg(value_parser = super::finite, short = 'g', num_args = 3, value_names = ["R", "G", "B"])]
     pub ground: Option<Vec<f64>>,
 
     /// Sky colour r g b (gendaymtx -c; default .960 1.004 1.118; with --at the sky glow
     /// colour, default 1 1 1).
-    #[arg(short = 'c', num_args = 3, value_names = ["R", "G", "B"])]
+    #[arg(value_parser = super::finite, short = 'c', num_args = 3, value_names = ["R", "G", "B"])]
     pub colour: Option<Vec<f64>>,
 
     /// Rotate the sky counter-clockwise about the zenith by DEG degrees (gendaymtx -r).
-    #[arg(short = 'r', value_name = "DEG", allow_negative_numbers = true)]
+    #[arg(value_parser = super::finite, short = 'r', value_name = "DEG", allow_negative_numbers = true)]
     pub rotation: Option<f64>,
 
     /// Output format: -oa ascii (default, full precision, not gendaymtx's 3 digits), -of
@@ -119,7 +119,7 @@ pub struct Options {
 
     /// Sunrise/sunset interval correction for data averaged over MIN minutes
     /// (gendaymtx -i).
-    #[arg(short = 'i', value_name = "MIN")]
+    #[arg(value_parser = super::finite, short = 'i', value_name = "MIN")]
     pub interval: Option<f64>,
 
     /// Point-in-time sky for "month day hour" (local standard time, as gendaylit's
@@ -130,11 +130,11 @@ pub struct Options {
     pub at: Option<String>,
 
     /// With --at: direct normal and diffuse horizontal irradiance, W/m2 (gendaylit -W).
-    #[arg(short = 'W', num_args = 2, value_names = ["DNI", "DHI"])]
+    #[arg(value_parser = super::finite, short = 'W', num_args = 2, value_names = ["DNI", "DHI"])]
     pub irradiance: Option<Vec<f64>>,
 
     /// With --at -W: latitude in degrees north (gendaylit -a).
-    #[arg(short = 'a', value_name = "LAT", allow_negative_numbers = true)]
+    #[arg(value_parser = super::finite, short = 'a', value_name = "LAT", allow_negative_numbers = true)]
     pub latitude: Option<f64>,
 
     /// Spectral matrix with N bands (Radiance's -cs N; also written -cs N): the same Perez
@@ -145,7 +145,7 @@ pub struct Options {
     pub cs: Option<usize>,
 
     /// Wavelength range of the -cs bands in nm (Radiance's -cw; default 380 780).
-    #[arg(long = "cw", num_args = 2, value_names = ["MIN", "MAX"])]
+    #[arg(value_parser = super::finite, long = "cw", num_args = 2, value_names = ["MIN", "MAX"])]
     pub cw: Option<Vec<f64>>,
 
     /// Sky model of the matrix: perez (default; gendaymtx's Perez sky, with -cs a CIE
@@ -159,7 +159,7 @@ pub struct Options {
 
     /// With --model atmosphere: one aerosol optical depth for every record (default: the
     /// weather file's AOD column, else 0.115, as gensdaymtx).
-    #[arg(long = "aod", value_name = "AOD", allow_negative_numbers = true)]
+    #[arg(value_parser = super::finite, long = "aod", value_name = "AOD", allow_negative_numbers = true)]
     pub aod: Option<f64>,
 
     /// With --model atmosphere: folder of the cached atmosphere tables (gensdaymtx -p;
@@ -184,7 +184,7 @@ pub struct Options {
 /// `rspecsky genssky month day hour [options]`: Radiance 6 genssky's point-in-time
 /// spectral sky (Bruneton's precomputed atmosphere, rdaylight::sky::genssky).
 #[derive(Parser, Debug)]
-#[command(name = "rspecsky genssky", disable_help_flag = true)]
+#[command(name = "rspecsky genssky", version, disable_help_flag = true)]
 pub struct GensskyArgs {
     /// Month (1-12).
     pub month: String,
@@ -194,25 +194,25 @@ pub struct GensskyArgs {
     /// name (10PST).
     pub hour: String,
     /// Latitude, degrees north.
-    #[arg(short = 'a', allow_negative_numbers = true)]
+    #[arg(value_parser = super::finite, short = 'a', allow_negative_numbers = true)]
     pub latitude: Option<f64>,
     /// Longitude, degrees west.
-    #[arg(short = 'o', allow_negative_numbers = true)]
+    #[arg(value_parser = super::finite, short = 'o', allow_negative_numbers = true)]
     pub longitude: Option<f64>,
     /// Standard meridian, degrees west (UTC-8 = 120).
-    #[arg(short = 'm', allow_negative_numbers = true)]
+    #[arg(value_parser = super::finite, short = 'm', allow_negative_numbers = true)]
     pub meridian: Option<f64>,
     /// Year: use the Michalsky solar position.
     #[arg(short = 'y')]
     pub year: Option<i32>,
     /// Broadband aerosol optical depth (default 0.115).
-    #[arg(short = 'd', default_value_t = crate::sky::atmosphere::AOD_CONTINENTAL)]
+    #[arg(value_parser = super::finite, short = 'd', default_value_t = crate::sky::atmosphere::AOD_CONTINENTAL)]
     pub aod: f64,
     /// Cloud cover, 0 clear to 1 overcast (default 0).
-    #[arg(short = 'c', default_value_t = 0.0)]
+    #[arg(value_parser = super::finite, short = 'c', default_value_t = 0.0)]
     pub cloud: f64,
     /// Ground reflectance (default 0.2).
-    #[arg(short = 'g', default_value_t = 0.2)]
+    #[arg(value_parser = super::finite, short = 'g', default_value_t = 0.2)]
     pub ground: f64,
     /// Aerosol profile (Radiance data file; default mie_ca.dat on RAYPATH, else an
     /// exponential profile, named in the output header).
@@ -229,7 +229,7 @@ pub struct GensskyArgs {
     #[arg(short = 'f', default_value = "out")]
     pub prefix: String,
     /// Direct normal and diffuse horizontal illuminance, lux.
-    #[arg(short = 'L', num_args = 2, value_names = ["DIRNORM", "DIFHOR"])]
+    #[arg(value_parser = super::finite, short = 'L', num_args = 2, value_names = ["DIRNORM", "DIFHOR"])]
     pub illuminance: Option<Vec<f64>>,
     /// Threads for the precomputation (results do not depend on it).
     #[arg(short = 'n', default_value_t = 0)]
@@ -417,7 +417,7 @@ impl Options {
         let num = |s: &Option<String>, what: &str| -> Result<Option<f64>> {
             s.as_deref()
                 .map(|t| {
-                    t.parse::<f64>()
+                    super::finite(t)
                         .map_err(|_| Error::Usage(format!("{what} {t}: expected degrees")))
                 })
                 .transpose()

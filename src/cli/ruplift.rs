@@ -43,7 +43,7 @@ Examples:
 /// 0..1 matches them) get the closest spectrum; the remaining Delta E*ab is printed on
 /// stderr.
 #[derive(Parser, Debug)]
-#[command(name = "ruplift", after_help = EXAMPLES)]
+#[command(name = "ruplift", version, after_help = EXAMPLES)]
 pub struct Cli {
     #[command(subcommand)]
     pub command: Command,
@@ -62,10 +62,10 @@ pub struct Common {
     #[arg(long, value_enum, default_value = "rad")]
     pub format: Format,
     /// Specularity of the plastic (rad output).
-    #[arg(long, default_value_t = 0.0)]
+    #[arg(value_parser = super::finite, long, default_value_t = 0.0)]
     pub spec: f64,
     /// Roughness of the plastic (rad output).
-    #[arg(long, default_value_t = 0.0)]
+    #[arg(value_parser = super::finite, long, default_value_t = 0.0)]
     pub rough: f64,
     /// Jakob & Hanika coefficient table (with --method jakob): read FILE if it exists,
     /// else build it (--table-res) and save it there. Lookups start the fit near the answer.
@@ -83,11 +83,11 @@ pub enum Command {
         /// Red, green, blue: linear reflectance-like values in 0..1 for `radiance` and
         /// `srgb-linear`, encoded 0..1 values for `srgb`. Values outside the gamut are
         /// accepted (closest spectrum, warning on stderr).
-        #[arg(allow_negative_numbers = true)]
+        #[arg(value_parser = super::finite, allow_negative_numbers = true)]
         r: f64,
-        #[arg(allow_negative_numbers = true)]
+        #[arg(value_parser = super::finite, allow_negative_numbers = true)]
         g: f64,
-        #[arg(allow_negative_numbers = true)]
+        #[arg(value_parser = super::finite, allow_negative_numbers = true)]
         b: f64,
         /// Name of the material (the pattern is NAME_spec).
         #[arg(long, default_value = "uplifted")]
@@ -183,10 +183,10 @@ pub struct PhotoArgs {
     #[arg(long, num_args = 4, value_names = ["X0", "Y0", "X1", "Y1"])]
     pub white_rect: Option<Vec<usize>>,
     /// Reflectance of the --white-rect card: 1 (grey) or 3 (Radiance RGB) values.
-    #[arg(long, num_args = 1..=3, default_values_t = [0.9])]
+    #[arg(value_parser = super::finite, long, num_args = 1..=3, default_values_t = [0.9])]
     pub white_rho: Vec<f64>,
     /// Grey world: the masked pixels average to this grey reflectance (no card).
-    #[arg(long, value_name = "RHO")]
+    #[arg(value_parser = super::finite, long, value_name = "RHO")]
     pub grey_world: Option<f64>,
     /// Trust the camera's white balance and exposure (sRGB white = reflectance 1): the plain
     /// D65 -> equal-energy adaptation.
@@ -212,10 +212,10 @@ pub struct MaterialOut {
     #[arg(long, value_enum, default_value = "basis")]
     pub method: MethodArg,
     /// Specularity of the plastics.
-    #[arg(long, default_value_t = 0.0)]
+    #[arg(value_parser = super::finite, long, default_value_t = 0.0)]
     pub spec: f64,
     /// Roughness of the plastics.
-    #[arg(long, default_value_t = 0.0)]
+    #[arg(value_parser = super::finite, long, default_value_t = 0.0)]
     pub rough: f64,
     /// Also write the estimates as a CSV table (name,pixels,r,g,b,photopic,note).
     #[arg(long, value_name = "FILE")]

@@ -116,6 +116,9 @@ pub fn ours(bin: &str) -> Command {
         "rglare" => env!("CARGO_BIN_EXE_rglare"),
         "ruplift" => env!("CARGO_BIN_EXE_ruplift"),
         "rmcop" => env!("CARGO_BIN_EXE_rmcop"),
+        "rcalib" => env!("CARGO_BIN_EXE_rcalib"),
+        "rrecon" => env!("CARGO_BIN_EXE_rrecon"),
+        "rglod" => env!("CARGO_BIN_EXE_rglod"),
         other => panic!("unknown binary {other}"),
     };
     Command::new(path)

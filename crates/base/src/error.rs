@@ -109,6 +109,22 @@ impl Error {
 
 pub type Result<T, E = Error> = std::result::Result<T, E>;
 
+/// Most threads a user may ask for (`-n` of rdc, rglod, rcalib, rspecsky genssky): beyond
+/// the cores, threads only cost memory (`-n 100000` started 100,000 threads, issue #19).
+pub const MAX_THREADS: usize = 1024;
+
+/// The one form of every bound on a count or size a user types (issue #19: `-ad` in the
+/// quintillions ran for ever, `-x`/`-y` in the hundreds of millions aborted on allocation):
+/// `value` above `max` is a usage error `OPTION VALUE: at most MAX (WHY)`.
+pub fn at_most(option: &str, value: u64, max: u64, why: &str) -> Result<()> {
+    if value > max {
+        return Err(Error::Usage(format!(
+            "{option} {value}: at most {max} ({why})"
+        )));
+    }
+    Ok(())
+}
+
 /// Attach a path to a bare `std::io::Error`.
 pub trait IoContext<T> {
     fn at_path(self, path: &str) -> Result<T>;

@@ -166,7 +166,7 @@ impl AnnualConfig {
             check_points(pts, p.len(), illum.name(), res.sensors.len())?;
         }
         for n in &res.notes {
-            if n.starts_with("input was RGB") {
+            if n.starts_with("input was RGB") || n.contains("negative illuminance") {
                 note(n);
             }
         }

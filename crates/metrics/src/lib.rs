@@ -39,6 +39,11 @@ pub struct LuxRows<R> {
     buf: Vec<f64>,
     /// Set when RGB irradiance was converted to lux.
     pub converted: bool,
+    /// Rows read so far (for error locations).
+    rows: usize,
+    /// Negative values read so far (noise of a Monte Carlo run, or a sign error upstream):
+    /// kept as they are and reported as a counted note.
+    pub negatives: usize,
 }
 
 impl LuxRows<Box<dyn BufRead>> {
@@ -74,6 +79,8 @@ impl<R: BufRead> LuxRows<R> {
             reader,
             buf,
             converted: ncomp == 3,
+            rows: 0,
+            negatives: 0,
         })
     }
     /// Time steps per row.
@@ -87,9 +94,24 @@ impl<R: BufRead> LuxRows<R> {
         self.reader.name()
     }
     /// Next row in lux into `out` (length [`ncols`](Self::ncols)); `false` at the end.
+    /// A NaN or infinite value is an error naming its row and column (every metric of the
+    /// sensor would silently become NaN: issue #19 printed `TAI nan`).
     pub fn next_row(&mut self, out: &mut [f64]) -> Result<bool> {
         if !self.reader.read_row(&mut self.buf)? {
             return Ok(false);
+        }
+        self.rows += 1;
+        let ncomp = if self.converted { 3 } else { 1 };
+        if let Some(i) = self.buf.iter().position(|v| !v.is_finite()) {
+            return Err(Error::parse(
+                crate::error::Location::file(self.reader.name()),
+                format!(
+                    "row {}, column {}: value {} is not a finite number; expected illuminance",
+                    self.rows,
+                    i / ncomp + 1,
+                    self.buf[i]
+                ),
+            ));
         }
         if self.converted {
             for (o, rgb) in out.iter_mut().zip(self.buf.chunks_exact(3)) {
@@ -98,6 +120,7 @@ impl<R: BufRead> LuxRows<R> {
         } else {
             out.copy_from_slice(&self.buf);
         }
+        self.negatives += out.iter().filter(|&&v| v < 0.0).count();
         Ok(true)
     }
 }
@@ -199,6 +222,14 @@ pub fn compute<R: BufRead, D: BufRead>(
     let mut notes = vec![format!("occupancy: {}", schedule.rule)];
     if illum.converted || direct.as_deref().is_some_and(|d| d.converted) {
         notes.push(RGB_NOTE.into());
+    }
+    let counts = std::iter::once((illum.name(), illum.negatives))
+        .chain(direct.as_deref().map(|d| (d.name(), d.negatives)));
+    for (name, n) in counts.filter(|c| c.1 > 0) {
+        notes.push(format!(
+            "{name}: {n} negative illuminance values, used as they are (Monte Carlo noise, \
+             or a sign error upstream)"
+        ));
     }
     let room = room_means(&sensors);
     Ok(Results {

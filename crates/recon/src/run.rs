@@ -180,6 +180,14 @@ pub fn room_run(name: &str, shell: bool, out: &mut dyn Write) -> Result<()> {
 
 /// Run `rrecon eval`: the comparison of `recon` with `truth` as JSON.
 pub fn eval_run(truth: &str, recon: &str, samples: usize, out: &mut dyn Write) -> Result<()> {
+    // Points are held per model with a nearest-surface search each: 10 million (hundreds of
+    // MB, minutes) is far beyond the seed's 80,000; 1e12 aborted on allocation (issue #19).
+    crate::error::at_most(
+        "--samples",
+        samples as u64,
+        10_000_000,
+        "points held in memory per model; the seed uses 80,000",
+    )?;
     let mut t = eval::polygons_of_scene(&load_scene(truth)?.0);
     let mut r = eval::polygons_of_scene(&load_scene(recon)?.0);
     fix_t_junctions(&mut t, 1e-6);

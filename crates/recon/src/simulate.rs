@@ -60,6 +60,8 @@ mod rand_distr_free {
 pub fn scan(scene: &Scene, opts: &ScanOptions) -> Result<PointCloud> {
     let mut objects = Vec::new();
     let mut passes = Vec::new();
+    // Scene index of each BVH object, so a bad polygon is reported at its file:line.
+    let mut origin = Vec::new();
     for (i, o) in scene.surfaces() {
         let Primitive::Polygon { vertices } = &o.kind else {
             return Err(Error::unsupported(
@@ -85,6 +87,7 @@ pub fn scan(scene: &Scene, opts: &ScanOptions) -> Result<PointCloud> {
             id: objects.len() as u32,
         });
         passes.push(glass);
+        origin.push(i);
     }
     if objects.is_empty() {
         return Err(Error::Usage("the scene has no surfaces to scan".into()));
@@ -98,7 +101,13 @@ pub fn scan(scene: &Scene, opts: &ScanOptions) -> Result<PointCloud> {
             opts.resolution
         )));
     }
-    let bvh = Bvh::build(&objects).map_err(|e| Error::Usage(format!("scene geometry: {e:?}")))?;
+    let bvh = Bvh::build(&objects).map_err(|e| {
+        let o = &scene.objects[origin[e.index]];
+        Error::parse(
+            o.loc.clone(),
+            format!("{} '{}': {}", o.type_name(), o.id, e.error),
+        )
+    })?;
     let step = opts.resolution.to_radians();
     let rows = (std::f64::consts::PI / step).round() as usize;
     let mut cloud = PointCloud {

@@ -263,6 +263,12 @@ impl LabelMap {
     /// Read a mask picture.
     pub fn open(path: &Path, legend: Option<Legend>) -> Result<Self> {
         let shown = path.display().to_string();
+        let dims = image::ImageReader::open(path)
+            .map_err(|e| Error::io(&shown, e))?
+            .with_guessed_format()
+            .map_err(|e| Error::io(&shown, e))?
+            .into_dimensions();
+        rdaylight_formats::picture::preview::check_photo_size(dims, &shown)?;
         let img = image::open(path).map_err(|e| match e {
             image::ImageError::IoError(e) => Error::io(&shown, e),
             other => Error::parse(

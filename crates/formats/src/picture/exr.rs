@@ -97,9 +97,24 @@ pub fn write_exr(p: &Picture, path: impl AsRef<Path>) -> Result<()> {
 }
 
 /// Read the first layer of an EXR stream; see the module documentation for the channels.
-pub fn read_exr_from<R: Read + Seek>(r: R, name: &str) -> Result<Picture> {
+pub fn read_exr_from<R: Read + Seek>(mut r: R, name: &str) -> Result<Picture> {
     // The exr crate validates its input, but a decoder bug must not take the caller down:
     // a panic inside it becomes an ordinary error.
+    let gave_up = || exr_error(name, "the decoder gave up on corrupt data");
+    // The headers first: the decoder allocates every layer's pixels as its header claims,
+    // so sizes are checked before any pixel is decoded.
+    let start = r.stream_position().map_err(|e| Error::io(name, e))?;
+    let meta = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+        exr::meta::MetaData::read_from_buffered(&mut r, false)
+    }))
+    .map_err(|_| gave_up())?
+    .map_err(|e| exr_error(name, e))?;
+    for h in &meta.headers {
+        let (w, h_px) = (h.layer_size.0, h.layer_size.1);
+        super::check_size(name, w, h_px, h.channels.list.len())?;
+    }
+    r.seek(std::io::SeekFrom::Start(start))
+        .map_err(|e| Error::io(name, e))?;
     let decoded = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
         exr::prelude::read()
             .no_deep_data()
@@ -111,7 +126,7 @@ pub fn read_exr_from<R: Read + Seek>(r: R, name: &str) -> Result<Picture> {
     }));
     let image = match decoded {
         Ok(r) => r.map_err(|e| exr_error(name, e))?,
-        Err(_) => return Err(exr_error(name, "the decoder gave up on corrupt data")),
+        Err(_) => return Err(gave_up()),
     };
     let layer = image.layer_data;
     let (w, h) = (layer.size.0, layer.size.1);
@@ -220,6 +235,29 @@ pub fn read_exr(path: impl AsRef<Path>) -> Result<Picture> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Issue #19: a header claiming 100000 x 100000 pixels made the decoder allocate
+    /// 40 GB; the size is checked from the headers before any pixel is decoded.
+    #[test]
+    fn huge_header_is_refused_before_decoding() {
+        let p = Picture::new(2, 2, Channels::rgb(), PixelFormat::Rgbe);
+        let mut bytes = std::io::Cursor::new(Vec::new());
+        write_exr_to(&p, &mut bytes).unwrap();
+        let mut bytes = bytes.into_inner();
+        // Both windows: name, "box2i", size 16, then xmin ymin xmax ymax (i32 LE).
+        for name in [&b"dataWindow\0box2i\0"[..], &b"displayWindow\0box2i\0"[..]] {
+            let at = bytes.windows(name.len()).position(|w| w == name).unwrap() + name.len() + 4;
+            bytes[at + 8..at + 12].copy_from_slice(&99_999i32.to_le_bytes());
+            bytes[at + 12..at + 16].copy_from_slice(&99_999i32.to_le_bytes());
+        }
+        let e = read_exr_from(std::io::Cursor::new(bytes), "huge.exr")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.starts_with("huge.exr: a picture of 100000 x 100000 pixels"),
+            "{e}"
+        );
+    }
 
     #[test]
     fn channel_names() {

@@ -49,6 +49,24 @@ pub const SPECTRA_FORMAT: &str = "Radiance_spectra";
 /// pictures must be streamed with [`PictureReader`].
 pub const MAX_VALUES: usize = 1 << 29;
 
+/// The size check every whole-picture reader and renderer makes before it allocates or
+/// decodes (issue #19: an OpenEXR header claiming 100000 x 100000 pixels made `ruplift
+/// proxy` allocate 40 GB): `width x height x ncomp` values at most [`MAX_VALUES`]
+/// (2 GiB of `f32`, e.g. 16384 x 10922 RGB), larger pictures being streamed or split.
+/// `what` names the file or the options (`-x 9 -y 9`) in the one-line error.
+pub fn check_size(what: &str, width: usize, height: usize, ncomp: usize) -> Result<()> {
+    let values = width
+        .checked_mul(height)
+        .and_then(|p| p.checked_mul(ncomp.max(1)));
+    match values {
+        Some(v) if v <= MAX_VALUES => Ok(()),
+        _ => Err(Error::Usage(format!(
+            "{what}: a picture of {width} x {height} pixels x {ncomp} components is more than \
+             {MAX_VALUES} values (2 GiB in memory); use a smaller resolution or split the picture"
+        ))),
+    }
+}
+
 /// How pixels are stored.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum PixelFormat {
@@ -422,17 +440,8 @@ impl Picture {
         let mut rd = PictureReader::new(r, name)?;
         let res = rd.resolution;
         let nc = rd.ncomp();
+        check_size(name, res.xres, res.yres, nc)?;
         let total = res.xres * res.yres * nc;
-        if total > MAX_VALUES {
-            return Err(Error::unsupported(
-                Location::file(name),
-                format!(
-                    "picture of {} x {} x {nc} values in memory (more than {MAX_VALUES}); \
-                     stream it with PictureReader",
-                    res.xres, res.yres
-                ),
-            ));
-        }
         let line_vals = res.scan_len() * nc;
         // Grow with the data actually read, so a corrupt header cannot reserve gigabytes.
         let mut file_order: Vec<f32> = Vec::with_capacity(total.min(1 << 22));

@@ -97,6 +97,12 @@ pub fn write_preview(p: &Picture, path: impl AsRef<Path>, exposure: Exposure) ->
 pub fn read_photo(path: impl AsRef<Path>) -> Result<Picture> {
     let path = path.as_ref();
     let shown = path.display().to_string();
+    let dims = image::ImageReader::open(path)
+        .map_err(|e| Error::io(&shown, e))?
+        .with_guessed_format()
+        .map_err(|e| Error::io(&shown, e))?
+        .into_dimensions();
+    check_photo_size(dims, &shown)?;
     let img = image::open(path).map_err(|e| match e {
         image::ImageError::IoError(e) => Error::io(&shown, e),
         other => Error::parse(
@@ -109,6 +115,11 @@ pub fn read_photo(path: impl AsRef<Path>) -> Result<Picture> {
 
 /// Read a PNG or JPEG from memory (`name` for messages and the header).
 pub fn read_photo_bytes(bytes: &[u8], name: &str) -> Result<Picture> {
+    let dims = image::ImageReader::new(std::io::Cursor::new(bytes))
+        .with_guessed_format()
+        .map_err(|e| Error::io(name, e))?
+        .into_dimensions();
+    check_photo_size(dims, name)?;
     let img = image::load_from_memory(bytes).map_err(|e| {
         Error::parse(
             Location::file(name),
@@ -116,6 +127,16 @@ pub fn read_photo_bytes(bytes: &[u8], name: &str) -> Result<Picture> {
         )
     })?;
     Ok(from_image(&img, name))
+}
+
+/// The size a PNG or JPEG header claims, checked with [`super::check_size`] before the
+/// pixels are decoded (as linear RGB `f32`, 12 bytes a pixel). An unreadable header is
+/// left for the decoder to report.
+pub fn check_photo_size(dims: image::ImageResult<(u32, u32)>, name: &str) -> Result<()> {
+    match dims {
+        Ok((w, h)) => super::check_size(name, w as usize, h as usize, 3),
+        Err(_) => Ok(()),
+    }
 }
 
 fn from_image(img: &image::DynamicImage, name: &str) -> Picture {

@@ -9,9 +9,15 @@
 //! - a non-zero exit status is an error here (Radiance only warns "bad status"), because a
 //!   half-written generator output is a silently wrong scene.
 //!
+//! A command's output is scene text held in memory, so it is bounded: more than
+//! [`MAX_OUTPUT`] bytes on standard output is an error (the command is killed), and at most
+//! [`MAX_STDERR`] bytes of its standard error are kept for messages (issue #19: `!yes` made
+//! `rinfo` run out of memory, `!head -c 3000000000 /dev/zero` aborted it).
+//!
 //! Commands can be refused for untrusted scenes ([`super::LoadOptions::allow_exec`], default
 //! from `RDAYLIGHT_NO_EXEC`); the error then says how to expand the scene by hand.
 
+use std::io::Read;
 use std::path::Path;
 use std::process::{Command, Stdio};
 
@@ -30,9 +36,30 @@ pub fn display_command(cmd: &str) -> String {
     one
 }
 
+/// Most bytes of scene text one inline command may print (1 GiB). The largest generated
+/// scenes we know (a million-polygon `obj2rad` conversion) are about 100 MB; the parsed
+/// objects take several times the text's size, so a larger output would exhaust memory
+/// before it could be traced anyway.
+pub const MAX_OUTPUT: u64 = 1 << 30;
+
+/// Bytes of a command's standard error kept for warnings and the failure message; the
+/// rest is read and dropped so that the command does not block on a full pipe.
+const MAX_STDERR: u64 = 1 << 20;
+
 /// Run `cmd` (the text after `!`) with `sh -c` in `dir` and return its standard output.
 /// `origin` is where the command came from, for error messages.
 pub fn run(cmd: &str, dir: &Path, origin: &Location, opts: &LoadOptions) -> Result<String> {
+    run_limited(cmd, dir, origin, opts, MAX_OUTPUT)
+}
+
+/// [`run`] with an output limit of `max_output` bytes.
+fn run_limited(
+    cmd: &str,
+    dir: &Path,
+    origin: &Location,
+    opts: &LoadOptions,
+    max_output: u64,
+) -> Result<String> {
     let shown = display_command(cmd);
     if !opts.allow_exec {
         return Err(Error::parse(
@@ -57,12 +84,52 @@ pub fn run(cmd: &str, dir: &Path, origin: &Location, opts: &LoadOptions) -> Resu
     c.stdin(Stdio::null())
         .stdout(Stdio::piped())
         .stderr(Stdio::piped());
-    let out = c.output().map_err(|e| {
+    let cannot = |e: std::io::Error| {
         Error::parse(
             origin.clone(),
             format!("cannot run command '!{shown}': {e}"),
         )
-    })?;
+    };
+    let mut child = c.spawn().map_err(cannot)?;
+    // Standard error is drained on a thread while standard output is read here, so that
+    // neither pipe can fill up and stall the command.
+    let mut err_pipe = child.stderr.take().expect("stderr is piped");
+    let err_reader = std::thread::spawn(move || {
+        let mut kept = Vec::new();
+        let _ = (&mut err_pipe).take(MAX_STDERR).read_to_end(&mut kept);
+        let _ = std::io::copy(&mut err_pipe, &mut std::io::sink());
+        kept
+    });
+    let mut stdout = Vec::new();
+    let read = child
+        .stdout
+        .take()
+        .expect("stdout is piped")
+        .take(max_output + 1)
+        .read_to_end(&mut stdout);
+    if read.is_ok() && stdout.len() as u64 > max_output {
+        // Not an error of the command's own: stop it (it may never end, like `!yes`).
+        let _ = child.kill();
+        let _ = child.wait();
+        // Not joined: a pipeline's other processes may hold standard error open a moment
+        // longer (they end on the closed output pipe); the thread ends with them.
+        drop(err_reader);
+        return Err(Error::parse(
+            origin.clone(),
+            format!(
+                "command '!{shown}' printed more than {max_output} bytes of scene text \
+                 (the limit for one inline command); run it yourself and check its output"
+            ),
+        ));
+    }
+    read.map_err(cannot)?;
+    let status = child.wait().map_err(cannot)?;
+    let err_bytes = err_reader.join().unwrap_or_default();
+    let out = std::process::Output {
+        status,
+        stdout,
+        stderr: err_bytes,
+    };
     let stderr = String::from_utf8_lossy(&out.stderr);
     if !out.status.success() {
         let last = stderr
@@ -104,5 +171,23 @@ mod tests {
         );
         let long = "x ".repeat(200);
         assert!(display_command(&long).ends_with("...") && display_command(&long).len() == 100);
+    }
+
+    /// Issue #19: `!yes` in a scene filled memory; output beyond the limit is an error
+    /// that names the command and the limit, and the endless command is stopped.
+    #[test]
+    fn endless_output_is_an_error() {
+        let opts = LoadOptions {
+            allow_exec: true,
+            command_env: Vec::new(),
+        };
+        let at = Location::line("big.rad", 3);
+        let e = run_limited("yes", Path::new(""), &at, &opts, 1000)
+            .unwrap_err()
+            .to_string();
+        assert!(e.starts_with("big.rad:3: ") && e.contains("'!yes'"), "{e}");
+        assert!(e.contains("more than 1000 bytes"), "{e}");
+        let ok = run_limited("printf 12345", Path::new(""), &at, &opts, 5).unwrap();
+        assert_eq!(ok, "12345");
     }
 }

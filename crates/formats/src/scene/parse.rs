@@ -42,6 +42,12 @@ use crate::error::{Error, Location, Result};
 /// would otherwise recurse forever).
 const MAX_COMMAND_DEPTH: usize = 16;
 
+/// Most inline commands one load runs, nested or not. Each is a process start (a few ms),
+/// and a scene whose commands include the scene again multiplies them: ten `!cat self.rad`
+/// lines ran 11,110 commands for 32 s before the depth limit stopped them (issue #19).
+/// Real scenes run tens to a few hundred (`!xform` instances of furniture, `!genbox`).
+pub(crate) const MAX_COMMANDS: usize = 4096;
+
 /// C `isspace` in the "C" locale (note: includes vertical tab, unlike `is_ascii_whitespace`).
 fn is_space(c: char) -> bool {
     matches!(c, ' ' | '\t' | '\n' | '\x0B' | '\x0C' | '\r')
@@ -201,6 +207,9 @@ pub(crate) struct Loader<'o> {
     objects: Vec<Object>,
     /// Most recent modifier with each id (`modobject.c` `modtab`).
     modifiers: HashMap<String, usize>,
+    /// Inline commands run so far, and the most allowed ([`MAX_COMMANDS`]).
+    commands: usize,
+    max_commands: usize,
 }
 
 impl<'o> Loader<'o> {
@@ -209,6 +218,8 @@ impl<'o> Loader<'o> {
             opts,
             objects: Vec::new(),
             modifiers: HashMap::new(),
+            commands: 0,
+            max_commands: MAX_COMMANDS,
         }
     }
 
@@ -227,6 +238,7 @@ impl<'o> Loader<'o> {
             let text = String::from_utf8_lossy(&buf);
             self.parse(&text, "<stdin>".into(), PathBuf::new(), 0)
         } else if let Some(cmd) = input.strip_prefix('!') {
+            self.count_command(&Location::file(input))?;
             let out = exec::run(cmd, Path::new(""), &Location::file(input), self.opts)?;
             self.parse(&out, input.to_string(), PathBuf::new(), 1)
         } else {
@@ -276,6 +288,7 @@ impl<'o> Loader<'o> {
         }
         // Location of the command line itself: file:line (the column is always 1).
         let origin = Location::line(loc.file.clone(), loc.line.unwrap_or(1));
+        self.count_command(&origin)?;
         let out = exec::run(
             cmd.trim_end_matches('\r'),
             &src.base_dir,
@@ -284,6 +297,22 @@ impl<'o> Loader<'o> {
         )?;
         let name = format!("{origin}: !{}", exec::display_command(cmd));
         self.parse(&out, name, src.base_dir.clone(), depth + 1)
+    }
+
+    /// Count one more inline command; an error at `origin` beyond the limit.
+    fn count_command(&mut self, origin: &Location) -> Result<()> {
+        self.commands += 1;
+        if self.commands > self.max_commands {
+            return Err(Error::parse(
+                origin.clone(),
+                format!(
+                    "more than {} inline '!' commands in one scene (does a command include \
+                     the scene itself?); expand the scene by hand",
+                    self.max_commands
+                ),
+            ));
+        }
+        Ok(())
     }
 
     fn object(&mut self, src: &mut Source) -> Result<()> {
@@ -514,6 +543,25 @@ fn read_specfile(file: &str, base_dir: &Path) -> Result<Option<SpecData>> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Issue #19: a scene whose commands include it again ran 11,110 commands; the count
+    /// is bounded for the whole load, nested or not, with the command's file:line.
+    #[test]
+    fn inline_commands_are_counted() {
+        let opts = LoadOptions {
+            allow_exec: true,
+            command_env: Vec::new(),
+        };
+        let mut loader = Loader::new(&opts);
+        loader.max_commands = 3;
+        let text = "!true\n!true\n!echo '!true'\n!true\n";
+        let e = loader
+            .parse(text, "many.rad".into(), PathBuf::new(), 0)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("more than 3 inline '!' commands"), "{e}");
+        assert!(e.starts_with("many.rad:3: !echo '!true':1"), "{e}");
+    }
 
     #[test]
     fn words_follow_fgetword() {

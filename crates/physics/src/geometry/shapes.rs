@@ -85,6 +85,8 @@ pub enum ShapeError {
     Polygon(PolygonError),
     /// A coordinate or radius is NaN or infinite.
     NonFinite,
+    /// A coordinate, radius or normal component beyond [`MAX_COORDINATE`] (the value).
+    OutOfRange(f64),
     /// Radius zero or negative where a positive one is needed.
     IllegalRadius(f64),
     /// Cone radii both zero, negative, or ring radii equal.
@@ -98,6 +100,12 @@ impl std::fmt::Display for ShapeError {
         match self {
             ShapeError::Polygon(e) => e.fmt(f),
             ShapeError::NonFinite => write!(f, "non-finite argument; expected real numbers"),
+            ShapeError::OutOfRange(v) => write!(
+                f,
+                "argument {v:e} out of range; coordinates and radii must be within \
+                 +-{MAX_COORDINATE:e} m (the BVH works in 32-bit floats; model distant \
+                 objects as a source or glow)"
+            ),
             ShapeError::IllegalRadius(r) => {
                 write!(f, "illegal radius {r}; expected a positive radius")
             }
@@ -122,6 +130,27 @@ impl ShapeError {
     }
 }
 
+/// Largest magnitude of a coordinate, radius or normal component a shape may have, in scene
+/// units (metres). The BVH ([`super::bvh`]) stores boxes in `f32`, whose largest value is
+/// 3.4e38: a sphere of radius 1e39 became an infinite box and obvhs indexed out of bounds
+/// (issue #19). 1e9 m (2.6 times the distance to the Moon) keeps box corners, their
+/// differences (2e9) and the squared extents of its surface-area heuristic (4e18) finite
+/// and exact enough in `f32`, and the squares the `f64` intersection routines form (1e18)
+/// far from overflow, while no daylight scene comes near it.
+pub const MAX_COORDINATE: f64 = 1e9;
+
+/// The first finite argument of `values` beyond [`MAX_COORDINATE`] (non-finite ones are
+/// [`ShapeError::NonFinite`], reported by the per-shape checks).
+fn out_of_range(values: impl IntoIterator<Item = f64>) -> Result<(), ShapeError> {
+    match values
+        .into_iter()
+        .find(|v| v.is_finite() && v.abs() > MAX_COORDINATE)
+    {
+        Some(v) => Err(ShapeError::OutOfRange(v)),
+        None => Ok(()),
+    }
+}
+
 fn finite3(a: &[f64; 3]) -> bool {
     a.iter().all(|x| x.is_finite())
 }
@@ -129,6 +158,8 @@ fn finite3(a: &[f64; 3]) -> bool {
 impl Shape {
     /// Check the arguments (see the module documentation for what the converter fixes first).
     pub fn validate(&self) -> Result<(), ShapeError> {
+        // Range first: triangulating or bounding a shape at 1e308 overflows to infinity.
+        out_of_range(self.arguments())?;
         match self {
             Shape::Polygon { vertices } => {
                 let v: Vec<Vec3> = vertices.iter().map(|&p| p.into()).collect();
@@ -183,6 +214,31 @@ impl Shape {
                     Ok(())
                 }
             }
+        }
+    }
+
+    /// Every real argument (coordinates, radii, normal components), for range checks.
+    fn arguments(&self) -> Vec<f64> {
+        match self {
+            Shape::Polygon { vertices } => vertices.iter().flatten().copied().collect(),
+            Shape::Sphere { centre, radius, .. } => {
+                centre.iter().copied().chain([*radius]).collect()
+            }
+            Shape::Cone { p0, p1, r0, r1, .. } => {
+                p0.iter().chain(p1).copied().chain([*r0, *r1]).collect()
+            }
+            Shape::Cylinder { p0, p1, r, .. } => p0.iter().chain(p1).copied().chain([*r]).collect(),
+            Shape::Ring {
+                centre,
+                normal,
+                r_in,
+                r_out,
+            } => centre
+                .iter()
+                .chain(normal)
+                .copied()
+                .chain([*r_in, *r_out])
+                .collect(),
         }
     }
 

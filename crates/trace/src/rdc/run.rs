@@ -432,6 +432,17 @@ impl Run {
     /// The rules that involve the streams as well as the tracer.
     pub fn validate(&self) -> Result<()> {
         self.config.validate(self.view.is_some())?;
+        if self.view.is_some() {
+            // Before the view trims one side to its aspect: -x 1e8 -y 1e8 aborted on
+            // allocation (issue #19).
+            let (x, y) = (self.x.unwrap_or(RPICT_RES), self.y.unwrap_or(RPICT_RES));
+            crate::formats::picture::check_size(
+                &format!("-x {x} -y {y}"),
+                x,
+                y,
+                self.config.channels.ncomp,
+            )?;
+        }
         if self.illuminance && (!self.config.irradiance || self.config.channels.ncomp != 3) {
             return Err(Error::Usage(
                 "-oi needs -I and RGB channels (illuminance from irradiance)".into(),

@@ -49,6 +49,19 @@ impl GensskyConfig {
     pub fn write(&self, mut out: impl Write, name: &str, msgs: &dyn Messages) -> Result<()> {
         let o = &self.options;
         o.validate()?;
+        use crate::error::{MAX_THREADS, at_most};
+        let cores = "beyond the cores, threads only cost memory";
+        at_most("-n", self.threads as u64, MAX_THREADS as u64, cores)?;
+        // Each order is one more pass over the full tables; genssky's default is 4 and
+        // orders beyond 10 change the sky by less than the tables' own interpolation.
+        let orders = "each order is a pass over the whole tables; 4 is genssky's default";
+        at_most("-i", self.scattering_order as u64, 20, orders)?;
+        crate::formats::picture::check_size(
+            &format!("-r {}", o.resolution),
+            o.resolution,
+            o.resolution / 2,
+            crate::radiometry::MAX_SAMPLES,
+        )?;
         // The warning gensky and genssky print: a meridian far from the longitude is
         // usually a sign mistake.
         if o.hour.zone_meridian.is_none()

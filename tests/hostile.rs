@@ -1,0 +1,250 @@
+//! Hostile and clumsy input (issue #19): every case runs the real binary and asserts exit
+//! status 1, exactly one line on stderr, and a message that names the option or the
+//! file:line and the limit. One regression test per reported failure.
+
+mod common;
+
+use common::{ours, run, tmpdir};
+use std::path::Path;
+
+/// Run `tool args` with `stdin`; assert status 1, nothing on stdout and one stderr line,
+/// which is returned.
+fn one_line_error(tool: &str, args: &[&str], stdin: &[u8]) -> String {
+    let out = run(ours(tool).args(args), stdin);
+    let err = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert_eq!(out.status.code(), Some(1), "{tool} {args:?}: {err}");
+    assert_eq!(
+        err.lines().count(),
+        1,
+        "{tool} {args:?}: one line, got: {err}"
+    );
+    assert!(err.starts_with(&format!("{tool}: ")), "{err}");
+    assert!(
+        out.stdout.is_empty(),
+        "{tool} {args:?}: nothing on stdout after an error"
+    );
+    err
+}
+
+fn write(dir: &Path, name: &str, text: &str) -> String {
+    let p = dir.join(name);
+    std::fs::write(&p, text).unwrap();
+    p.display().to_string()
+}
+
+const MATERIAL: &str = "void plastic m 0 0 5 .5 .5 .5 0 0\n";
+
+/// `rdc -I -m 1 -ad 1 big.rad` panicked inside the BVH builder (obvhs index out of bounds)
+/// for a sphere of radius 1e39 and polygons at 1e39 or 1e308.
+#[test]
+fn huge_coordinates_are_a_file_line_error() {
+    let d = tmpdir();
+    let cases = [
+        "m sphere s 0 0 4 0 0 0 1e39\n",
+        "m polygon p 0 0 9 0 0 0 1e39 0 0 0 1e39 0\n",
+        "m polygon p 0 0 9 0 0 0 1e308 0 0 0 1e308 0\n",
+        "m ring r 0 0 8 0 0 0 0 0 1 0 2e9\n",
+    ];
+    for (i, geometry) in cases.iter().enumerate() {
+        let scene = write(
+            d.path(),
+            &format!("big{i}.rad"),
+            &format!("{MATERIAL}{geometry}"),
+        );
+        let e = one_line_error(
+            "rdc",
+            &["-I", "-m", "1", "-ad", "1", &scene],
+            b"1 1 1 0 0 1\n",
+        );
+        assert!(e.contains(&format!("big{i}.rad:2:")), "{e}");
+        assert!(e.contains("out of range") && e.contains("1e9 m"), "{e}");
+    }
+    // The same limit for the scan simulator's own BVH.
+    let scene = write(d.path(), "scan.rad", &format!("{MATERIAL}{}", cases[1]));
+    let e = one_line_error("rrecon", &["simulate", &scene, "--stations", "0,0,1"], b"");
+    assert!(
+        e.contains("scan.rad:2:") && e.contains("out of range"),
+        "{e}"
+    );
+}
+
+/// Counts and sizes without a bound ran for ever (`-ad 1e18`, `--eye-ad 1e15`), aborted on
+/// allocation (`-x 1e8 -y 1e8`, `--samples 1e12`) or started 100,000 threads (`-n`).
+#[test]
+fn unbounded_counts_are_refused_with_the_limit() {
+    let d = tmpdir();
+    let scene = write(d.path(), "room.rad", MATERIAL);
+    let rdc = |args: &[&str]| {
+        let mut a: Vec<&str> = args.to_vec();
+        a.push(&scene);
+        one_line_error("rdc", &a, b"1 1 1 0 0 1\n")
+    };
+    let e = rdc(&["-I", "-m", "1", "-ad", "1000000000000000000"]);
+    assert!(
+        e.contains("-ad 1000000000000000000: at most 16777216 ("),
+        "{e}"
+    );
+    let e = rdc(&["-I", "-m", "1", "-ab", "100000"]);
+    assert!(e.contains("-ab 100000: at most 1000 ("), "{e}");
+    let e = rdc(&["-I", "-m", "1", "-lr", "-2147483648"]);
+    assert!(e.contains("-lr 2147483648: at most 1000 ("), "{e}");
+    let e = rdc(&["-I", "-m", "1", "-n", "100000"]);
+    assert!(e.contains("-n 100000: at most 1024"), "{e}");
+    let e = rdc(&[
+        "-I",
+        "-m",
+        "1",
+        "--target-se",
+        "0.1",
+        "--max-samples",
+        "99999999999",
+    ]);
+    assert!(
+        e.contains("--max-samples 99999999999: at most 16777216"),
+        "{e}"
+    );
+    let view = [
+        "-vtv", "-vp", "0", "0", "0", "-vd", "0", "1", "0", "-vh", "45", "-vv", "45",
+    ];
+    let mut a = view.to_vec();
+    a.extend(["-x", "100000000", "-y", "100000000"]);
+    let e = rdc(&a);
+    assert!(
+        e.contains("-x 100000000 -y 100000000: a picture of") && e.contains("2 GiB"),
+        "{e}"
+    );
+
+    let annual = |extra: [&str; 2]| {
+        let mut a = vec!["annual", "-w", "x.wea", "-vta", "-vh", "180", "-vv", "180"];
+        a.extend(extra);
+        a.push(&scene);
+        one_line_error("rglare", &a, b"")
+    };
+    let e = annual(["--eye-ad", "1e15"]);
+    assert!(
+        e.contains("--eye-ad 1000000000000000: at most 16777216"),
+        "{e}"
+    );
+    let e = annual(["--rays", "100000"]);
+    assert!(e.contains("--rays 100000: at most 1024"), "{e}");
+    let e = annual(["--rays", "2.5"]);
+    assert!(e.contains("--rays: '2.5' is not a whole number"), "{e}");
+
+    let e = one_line_error(
+        "rrecon",
+        &["eval", &scene, &scene, "--samples", "1000000000000"],
+        b"",
+    );
+    assert!(
+        e.contains("--samples 1000000000000: at most 10000000"),
+        "{e}"
+    );
+}
+
+/// `!yes` in a scene made rinfo run out of memory: an inline command's output is capped
+/// (1 GiB) and the command stopped.
+#[test]
+fn endless_inline_command_output_is_capped() {
+    let d = tmpdir();
+    let scene = write(d.path(), "yes.rad", &format!("{MATERIAL}!yes\n"));
+    let e = one_line_error("rinfo", &[&scene], b"");
+    assert!(
+        e.contains("yes.rad:2: command '!yes' printed more than 1073741824 bytes"),
+        "{e}"
+    );
+}
+
+/// Every tool: a bad option is one line and status 1 (clap alone prints a block and exits
+/// 2); `--help` and `--version` print on stdout and exit 0, tools and subcommands alike.
+#[test]
+fn usage_errors_are_one_line_and_help_exits_zero() {
+    let tools = [
+        "rdc", "rmtx", "rinfo", "rmetrics", "rspecsky", "rglare", "ruplift", "rcalib", "rrecon",
+        "rglod",
+    ];
+    for tool in tools {
+        let e = one_line_error(tool, &["--no-such-option"], b"");
+        assert!(e.contains("--no-such-option"), "{e}");
+        for flag in ["--help", "--version"] {
+            let out = run(ours(tool).arg(flag), b"");
+            assert_eq!(out.status.code(), Some(0), "{tool} {flag}");
+            assert!(!out.stdout.is_empty(), "{tool} {flag} prints on stdout");
+        }
+    }
+    let subcommands: [&[&str]; 8] = [
+        &["rglare", "annual"],
+        &["rspecsky", "genssky"],
+        &["rmetrics", "compare"],
+        &["ruplift", "proxy"],
+        &["rcalib", "compare"],
+        &["rrecon", "eval"],
+        &["rglod", "study"],
+        &["rmetrics", "melanopic"],
+    ];
+    for sub in subcommands {
+        let out = run(ours(sub[0]).args([sub[1], "--help"]), b"");
+        assert_eq!(out.status.code(), Some(0), "{sub:?} --help");
+        assert!(!out.stdout.is_empty(), "{sub:?} --help prints on stdout");
+        let e = one_line_error(sub[0], &[sub[1], "--no-such-option"], b"");
+        assert!(
+            e.contains("--no-such-option") || e.contains("rdc options"),
+            "{e}"
+        );
+    }
+}
+
+/// `rmtx -c nan` and `-s inf` were accepted, as was any `nan`/`inf` a clap option took as
+/// a real number.
+#[test]
+fn non_finite_option_values_are_errors() {
+    let d = tmpdir();
+    let m = write(
+        d.path(),
+        "m.mtx",
+        "#?RADIANCE\nNROWS=1\nNCOLS=1\nNCOMP=3\nFORMAT=ascii\n\n1 2 3\n",
+    );
+    let e = one_line_error("rmtx", &["-c", "nan", &m], b"");
+    assert!(e.contains("-c nan: expected finite numbers"), "{e}");
+    let e = one_line_error("rmtx", &["-s", "inf", &m], b"");
+    assert!(e.contains("-s inf: expected finite numbers"), "{e}");
+    let e = one_line_error("rdc", &["-lw", "nan", "x.rad"], b"");
+    assert!(
+        e.contains("'nan'") && e.contains("--lw") && e.contains("finite"),
+        "{e}"
+    );
+    let e = one_line_error("rdc", &["-cs", "5", "-cw", "380", "inf", "x.rad"], b"");
+    assert!(e.contains("'inf'") && e.contains("--cw"), "{e}");
+    let e = one_line_error("ruplift", &["rgb", "0.5", "NaN", "0.5"], b"");
+    assert!(e.contains("'NaN'") && e.contains("finite"), "{e}");
+    let e = one_line_error("rmetrics", &["--da", "1e999", &m], b"");
+    assert!(e.contains("--da") && e.contains("finite"), "{e}");
+}
+
+/// `rmetrics` on a matrix holding nan or inf printed `TAI nan`: now an error naming the
+/// file, row and column; negative illuminance is a counted note on stderr.
+#[test]
+fn non_finite_matrix_values_name_row_and_column() {
+    let d = tmpdir();
+    let hours = write(d.path(), "h.txt", "6 21 10.5\n6 21 11.5\n6 21 12.5\n");
+    let head = "#?RADIANCE\nNROWS=2\nNCOLS=3\nNCOMP=1\nFORMAT=ascii\n\n";
+    // (`-inf` is already refused by the ascii reader, with file:line.)
+    for bad in ["nan", "inf"] {
+        let m = write(
+            d.path(),
+            "m.mtx",
+            &format!("{head}100 200 300\n100 200 {bad}\n"),
+        );
+        let e = one_line_error("rmetrics", &["--hours", &hours, &m], b"");
+        assert!(e.contains(&format!("{m}: row 2, column 3: value")), "{e}");
+        assert!(e.contains("not a finite number"), "{e}");
+    }
+    let m = write(
+        d.path(),
+        "neg.mtx",
+        &format!("{head}100 -2 300\n-1 200 300\n"),
+    );
+    let out = run(ours("rmetrics").args(["--hours", &hours, &m]), b"");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(0), "{err}");
+    assert!(err.contains("2 negative illuminance values"), "{err}");
+}
