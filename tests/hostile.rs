@@ -160,7 +160,7 @@ fn endless_inline_command_output_is_capped() {
 fn usage_errors_are_one_line_and_help_exits_zero() {
     let tools = [
         "rdc", "rmtx", "rinfo", "rmetrics", "rspecsky", "rglare", "ruplift", "rcalib", "rrecon",
-        "rglod",
+        "rglod", "rmcop",
     ];
     for tool in tools {
         let e = one_line_error(tool, &["--no-such-option"], b"");
@@ -171,7 +171,9 @@ fn usage_errors_are_one_line_and_help_exits_zero() {
             assert!(!out.stdout.is_empty(), "{tool} {flag} prints on stdout");
         }
     }
-    let subcommands: [&[&str]; 8] = [
+    let subcommands: [&[&str]; 10] = [
+        &["rmcop", "study"],
+        &["rmcop", "validate"],
         &["rglare", "annual"],
         &["rspecsky", "genssky"],
         &["rmetrics", "compare"],

@@ -142,7 +142,7 @@ pub struct Inputs {
     #[arg(long = "ad", value_name = "N", default_value_t = 10000)]
     pub ad: usize,
     /// Path weight limit (rdc -lw).
-    #[arg(long = "lw", value_name = "W", default_value_t = 1e-5)]
+    #[arg(value_parser = super::finite, long = "lw", value_name = "W", default_value_t = 1e-5)]
     pub lw: f64,
     /// Seed of the traces and the draws.
     #[arg(short = 's', long = "seed", default_value_t = 1)]
