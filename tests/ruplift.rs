@@ -271,7 +271,7 @@ fn cli_outputs_and_errors() {
         b"",
     );
     assert_eq!(out.status.code(), Some(1));
-    assert!(String::from_utf8_lossy(&out.stderr).contains("must be finite"));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("expected a finite number"));
     let out = common::run_ok(
         common::ours("ruplift").args(["rgb", "0.5", "0.4", "0.3", "--format", "specfile"]),
         b"",
