@@ -6,6 +6,7 @@
 //! these and calls one `run` function.
 
 use crate::calib::cases;
+use crate::calib::measurements::Columns;
 use crate::calib::room::parse_classes;
 use crate::calib::run::{self, Files, Reports, SynthClimate};
 use crate::calib::score::DEFAULT_SENSOR_SIGMA;
@@ -32,7 +33,9 @@ Examples (the bundled case, examples/calib):
       (spectral readings: month,day,hour,sensor,410nm,...; seed ch. 6 + glazing tint)
 
 Readings CSV: month,day,hour,sensor,lux (hour in the weather file's convention, e.g.
-12.5); sensors: .pts (ids = line numbers) or CSV id,x,y,z,dx,dy,dz; weather: .wea or
+12.5), or month,day,hour and one column per sensor; sensor_id/id, lx/illuminance/
+illuminance_lx/E and kilolux or foot-candle columns (illuminance_klx, E_fc) are read too,
+other names with --columns sensor=Channel,lux=Reading; sensors: .pts (ids = line numbers) or CSV id,x,y,z,dx,dy,dz; weather: .wea or
 .epw covering the measured time steps (its DNI/DHI are the measured conditions).
 Coefficients are cached in --cache (default .rcalib-cache): re-runs trace nothing.";
 
@@ -160,9 +163,16 @@ pub struct CommonArgs {
     /// Weather of the measurement period (.wea or .epw).
     #[arg(long)]
     pub weather: String,
-    /// Readings: month,day,hour,sensor,lux.
+    /// Readings: month,day,hour,sensor,lux (one reading per row) or month,day,hour and one
+    /// column per sensor; also sensor_id or id, and lx, illuminance, illuminance_lx, E
+    /// (klx or fc in the name: kilolux, foot-candles).
     #[arg(long)]
     pub measured: String,
+    /// Names of the readings' columns where they differ: role=name,... with roles month,
+    /// day, hour, sensor and lux, klx or fc (the illuminance column and its unit), e.g.
+    /// `sensor=Channel,klx=Reading`; `fc=*`: one column per sensor, in foot-candles.
+    #[arg(long)]
+    pub columns: Option<String>,
     #[command(flatten)]
     pub sim: SimArgs,
 }
@@ -220,6 +230,9 @@ pub struct ApplyArgs {
     /// With sensor-fault effects: the readings to correct ...
     #[arg(long)]
     pub measured: Option<String>,
+    /// Names of the readings' columns (as for compare).
+    #[arg(long)]
+    pub columns: Option<String>,
     /// ... and where to write the corrected readings.
     #[arg(long)]
     pub corrected: Option<PathBuf>,
@@ -304,20 +317,26 @@ impl SimArgs {
     }
 }
 
+/// `--columns SPEC`, checked.
+fn columns(c: &Option<String>) -> Result<Columns, Error> {
+    c.as_deref().map_or(Ok(Columns::default()), Columns::parse)
+}
+
 impl CommonArgs {
-    pub fn files(&self) -> Files {
-        Files {
+    pub fn files(&self) -> Result<Files, Error> {
+        Ok(Files {
             scene: self.scene.clone(),
             sensors: self.sensors.clone(),
             weather: self.weather.clone(),
             measured: self.measured.clone(),
-        }
+            columns: columns(&self.columns)?,
+        })
     }
 
     pub fn to_tmscan(&self) -> Result<run::Tmscan, Error> {
         Ok(run::Tmscan {
             options: self.sim.options(false)?,
-            files: self.files(),
+            files: self.files()?,
         })
     }
 }
@@ -326,7 +345,7 @@ impl CompareArgs {
     pub fn to_run(&self) -> Result<run::Compare, Error> {
         Ok(run::Compare {
             options: self.common.sim.options(false)?,
-            files: self.common.files(),
+            files: self.common.files()?,
             before: self.before.clone(),
             reports: Reports {
                 html: self.report.clone(),
@@ -340,7 +359,7 @@ impl ExplainArgs {
     pub fn to_run(&self) -> Result<run::Explain, Error> {
         Ok(run::Explain {
             options: self.common.sim.options(true)?,
-            files: self.common.files(),
+            files: self.common.files()?,
             families: self
                 .effects
                 .as_deref()
@@ -364,6 +383,7 @@ impl ApplyArgs {
             sensors: self.sensors.clone(),
             effects: self.effects.clone(),
             measured: self.measured.clone(),
+            columns: columns(&self.columns)?,
             corrected: self.corrected.clone(),
             classes: classes(&self.classes)?,
             output: self.output.clone(),
@@ -401,6 +421,7 @@ impl SpectralArgs {
                 sensors: self.sensors.clone(),
                 weather: self.weather.clone(),
                 measured: self.measured.clone(),
+                columns: Columns::default(),
             },
             response: self.response.clone(),
             control: self.control.clone(),

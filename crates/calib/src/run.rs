@@ -15,7 +15,7 @@ use crate::error::{Error, Result};
 use crate::explain::{Explanation, explain, refined, simulate_applied};
 use crate::formats::sensors::{Sensor, write_csv as write_sensors};
 use crate::formats::weather::Weather;
-use crate::measurements::{Measurements, write_csv};
+use crate::measurements::{Columns, Measurements, write_csv};
 use crate::model::Model;
 use crate::session::{self, Loaded, Options};
 use crate::simulate::Settings;
@@ -31,6 +31,8 @@ pub struct Files {
     pub sensors: String,
     pub weather: String,
     pub measured: String,
+    /// `--columns`: names of the readings' columns where they are not the accepted ones.
+    pub columns: Columns,
 }
 
 /// Where the HTML report and the JSON data go (each optional).
@@ -75,6 +77,8 @@ pub struct Apply {
     pub effects: Vec<String>,
     /// With sensor-fault effects: the readings to correct and where to write them.
     pub measured: Option<String>,
+    /// `--columns` of `measured`.
+    pub columns: Columns,
     pub corrected: Option<PathBuf>,
     /// Surface classes of materials ([`crate::room::parse_classes`]).
     pub classes: Vec<(String, crate::room::SurfaceClass)>,
@@ -175,7 +179,13 @@ fn stdout_err(e: std::io::Error) -> Error {
 }
 
 fn load(files: &Files, scene: &[String]) -> Result<Loaded> {
-    session::load(scene, &files.sensors, &files.weather, &files.measured)
+    session::load(
+        scene,
+        &files.sensors,
+        &files.weather,
+        &files.measured,
+        &files.columns,
+    )
 }
 
 fn model_of(l: &Loaded, opts: &Options) -> Result<Model> {
@@ -323,7 +333,7 @@ pub fn apply_run(a: &Apply, out: &mut dyn Write, err: &mut dyn Write) -> Result<
         .any(|e| matches!(e, Effect::SensorFault { .. }));
     match (&a.measured, &a.corrected) {
         (Some(m), Some(path)) => {
-            let readings = Measurements::read_path(m)?;
+            let readings = Measurements::read_path_with(m, &a.columns)?;
             let ids: Vec<String> = sensors.iter().map(|s| s.id.clone()).collect();
             let fixed = apply::correct_readings(&readings.readings, &ids, &effects);
             write_atomically(path, |w| write_csv(w, &fixed))?;

@@ -6,7 +6,7 @@
 //! reflectance sensitivities.
 
 use super::inputs::load_sensors;
-use super::measurements::{Bound, Measurements};
+use super::measurements::{Bound, Columns, Measurements};
 use super::model::Model;
 use super::room::{Room, SurfaceClass, sensor_centroid};
 use super::simulate::{Settings, Simulator, step_skies, subset_wea};
@@ -88,17 +88,19 @@ pub struct Loaded {
     pub readings: Vec<Bound>,
 }
 
-/// Read the inputs (scene files, sensors, weather, measurements) and bind the readings.
+/// Read the inputs (scene files, sensors, weather, measurements with their `--columns`)
+/// and bind the readings.
 pub fn load(
     scene_files: &[String],
     sensors: &str,
     weather: &str,
     measured: &str,
+    columns: &Columns,
 ) -> Result<Loaded> {
     let scene = scene::load(scene_files, &LoadOptions::from_env())?;
     let sensors = load_sensors(sensors)?;
     let w = Weather::read_path(weather)?;
-    let m = Measurements::read_path(measured)?;
+    let m = Measurements::read_path_with(measured, columns)?;
     let ids: Vec<String> = sensors.iter().map(|s| s.id.clone()).collect();
     let steps: Vec<(u32, u32, f64)> = w
         .steps

@@ -47,10 +47,13 @@ use crate::rdc::config::SUN_ANGLE_DEG;
 use crate::rdc::{Adaptive, Config, RecordResult, Reweight, Sampling, SunSource, Target};
 use crate::scene::Scene;
 use crate::scene::{LoadOptions, Primitive};
+use crate::sky::gendaylit::{GendaylitInput, GendaylitOptions, GendaylitSky};
 use crate::sky::matrix::time_steps;
 use crate::sky::perez::{
-    GENDAYMTX_GROUND_REFLECTANCE, GENDAYMTX_SKY_COLOUR, PerezOptions, perez_sky_vector,
+    GENDAYMTX_GROUND_REFLECTANCE, GENDAYMTX_SKY_COLOUR, InputUnits, PerezOptions, TimeStep,
+    perez_sky_vector,
 };
+use crate::sky::solar::sunrise_sunset;
 use crate::sky::{SkyPatches, solar::SunPosition};
 use crate::trace::reweight::Reweighting;
 use std::path::{Path, PathBuf};
@@ -163,8 +166,44 @@ pub struct StepSky {
     pub dhi: f64,
 }
 
-/// Skies of the weather steps `idx` at Reinhart subdivision `mf`.
+/// Which Radiance program's Perez sky a measured step gets. The two apply the same
+/// published models (Perez 1990 efficacy, Perez 1993 luminance) but build the sky
+/// differently, by up to several percent of a room's illuminance (measured:
+/// `radiance-fixtures/calib/README.md`, issue 22). rcalib uses gendaymtx's (the default);
+/// gendaylit's, as coefficients can carry it, is kept for that comparison
+/// (`crates/calib/tests/forward.rs`) until its ground bin is resolved (see the README).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum StepSkyModel {
+    /// gendaylit `-W dni dhi` (or `-G`/`-L` by the weather file's units), as a point-in-time
+    /// reference run (`gendaylit ... | oconv | rtrace -I`) sees it: `perezlum.cal` averaged
+    /// over each bin, which includes its horizon blend into the ground and its ground
+    /// brightness A2 (gensky's intermediate-sky normalisation for any clearness above 1,
+    /// i.e. for the faintest sun), the sun disc of gendaylit's radiance, white sky.
+    Gendaylit,
+    /// gendaymtx's column (`gendaymtx -m MF`, sun `-5 0.533`): the Perez sky at each patch
+    /// centre normalised over the patches, ground `rho (E_dif + E_dir sin alt) / pi`,
+    /// gendaymtx's sky colour. Annual pipelines (`rspecsky`, `dctimestep`) use this.
+    #[default]
+    Gendaymtx,
+}
+
+/// Skies of the weather steps `idx` at Reinhart subdivision `mf` ([`StepSkyModel`]'s
+/// default, gendaymtx's).
 pub fn step_skies(w: &Weather, idx: &[usize], mf: usize) -> Vec<StepSky> {
+    step_skies_with(w, idx, mf, StepSkyModel::default())
+}
+
+/// Directions per bin side when averaging gendaylit's sky over a bin (64 per bin): the
+/// horizon row's mean changes by less than 1e-3 relative from 8 x 8 to 32 x 32.
+const BIN_SAMPLES: usize = 8;
+/// Directions per side for the ground bin (the whole lower hemisphere, uniform in solid
+/// angle: its brightness changes only in the horizon blend, within 10 deg below).
+const GROUND_SAMPLES: usize = 32;
+
+/// Skies of the weather steps `idx` with the chosen program's sky. A step for which
+/// gendaylit writes its "error sky" (sun below the horizon for the date, Perez b > 0) gets
+/// gendaymtx's sky instead: gendaylit's is black, which no reading can be compared with.
+pub fn step_skies_with(w: &Weather, idx: &[usize], mf: usize, model: StepSkyModel) -> Vec<StepSky> {
     let patches = SkyPatches::new(mf);
     let steps = time_steps(w);
     let site = &w.site;
@@ -177,27 +216,78 @@ pub fn step_skies(w: &Weather, idx: &[usize], mf: usize) -> Vec<StepSky> {
     idx.iter()
         .filter_map(|&i| steps.get(i))
         .map(|st| {
-            let v = perez_sky_vector(&patches, st, site, &smear);
-            let v5 = perez_sky_vector(&patches, st, site, &disc);
             let pos = SunPosition::at(site, st.jd, st.hour);
-            StepSky {
+            let mut sky = StepSky {
                 month: st.month,
                 day: st.day,
                 hour: st.hour,
-                sky: v.to_channels(&GENDAYMTX_SKY_COLOUR, &GENDAYMTX_GROUND_REFLECTANCE, &zero),
-                sun_radiance: v5.sun.first().map_or(0.0, |s| s.1),
+                sky: Vec::new(),
+                sun_radiance: 0.0,
                 sun_altitude_deg: pos.altitude.to_degrees(),
                 sun_azimuth_deg: pos
                     .azimuth_east_of_north(0.0)
                     .to_degrees()
                     .rem_euclid(360.0),
                 sun_dir: pos.direction(),
-                clearness: v.state.map_or(0.0, |s| s.epsilon),
+                clearness: 0.0,
                 dni: st.direct,
                 dhi: st.diffuse,
+            };
+            if let Some(g) = (model == StepSkyModel::Gendaylit)
+                .then(|| gendaylit_step(site, st))
+                .flatten()
+            {
+                sky.sky = (0..patches.len())
+                    .map(|i| {
+                        let n = if i == 0 { GROUND_SAMPLES } else { BIN_SAMPLES };
+                        g.bin_radiance(&patches, i, n)
+                    })
+                    .flat_map(|x| [x, x, x])
+                    .collect();
+                sky.sun_radiance = g.solar.unwrap_or(0.0);
+                sky.clearness = g.epsilon;
+                return sky;
             }
+            let v = perez_sky_vector(&patches, st, site, &smear);
+            let v5 = perez_sky_vector(&patches, st, site, &disc);
+            sky.sky = v.to_channels(&GENDAYMTX_SKY_COLOUR, &GENDAYMTX_GROUND_REFLECTANCE, &zero);
+            sky.sun_radiance = v5.sun.first().map_or(0.0, |s| s.1);
+            sky.clearness = v.state.map_or(0.0, |s| s.epsilon);
+            sky
         })
         .collect()
+}
+
+/// gendaylit's sky for a weather step: `gendaylit M D H -a -o -m -W|-G|-L dir dif` with
+/// its defaults (ground reflectance 0.2, dew point 10.97 C), the position from the step's
+/// own (leap-adjusted) day number. `None` where gendaylit writes its error sky: the sun
+/// below the horizon or outside sunrise..sunset for the date, Perez b > 0.
+fn gendaylit_step(site: &crate::formats::weather::Site, st: &TimeStep) -> Option<GendaylitSky> {
+    let (direct, diffuse) = (st.direct, st.diffuse);
+    let input = match st.units {
+        InputUnits::DirectNormalIrradiance => {
+            GendaylitInput::DirectNormalIrradiance { direct, diffuse }
+        }
+        InputUnits::DirectHorizontalIrradiance => {
+            GendaylitInput::DirectHorizontalIrradiance { direct, diffuse }
+        }
+        InputUnits::DirectNormalIlluminance => {
+            GendaylitInput::DirectNormalIlluminance { direct, diffuse }
+        }
+    };
+    let opts = GendaylitOptions::new(input);
+    let pos = SunPosition::at(site, st.jd, st.hour);
+    let (rise, set) = sunrise_sunset(site, st.month, st.day);
+    if pos.solar_time < rise || pos.solar_time > set || pos.altitude <= 0.0 {
+        return None;
+    }
+    Some(GendaylitSky::new(
+        pos.altitude,
+        pos.azimuth,
+        f64::from(st.jd),
+        &opts,
+    ))
+    .filter(|g| !g.error)
 }
 
 /// A `.wea` holding only the steps `idx` of `w` (for `rdc --suns`).

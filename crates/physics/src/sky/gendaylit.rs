@@ -32,6 +32,7 @@ use super::cie::{CieSky, normsc};
 use super::efficacy::CLEARNESS_EDGES as EDGES;
 use super::efficacy::SOLAR_CONSTANT as SOLAR_CONSTANT_E;
 use super::efficacy::{self, Flavour};
+use super::patches::SkyPatches;
 use super::perez::{PEREZ_1993, perezlum};
 use super::solar::{SunPosition, sunrise_sunset};
 use crate::formats::weather::Site;
@@ -140,6 +141,34 @@ impl GendaylitSky {
     /// Sky radiance toward unit direction `dir` (`perezlum.cal`'s `skybright`).
     pub fn radiance(&self, dir: [f64; 3]) -> f64 {
         perezlum(dir, &self.args)
+    }
+
+    /// The sky as daylight-coefficient bins see it: per bin of `patches`, the mean radiance
+    /// over the bin's solid angle (`n` x `n` stratified directions, uniform in solid angle,
+    /// [`SkyPatches::sample`]); bin 0 is the whole lower hemisphere. A daylight coefficient
+    /// is the bin's light per unit uniform radiance, so the solid-angle mean is the value
+    /// that reproduces the continuous sky for a sensor that sees the bin evenly. The mean
+    /// rather than the value at the centre matters around the horizon, where
+    /// `perezlum.cal` blends the sky into the ground brightness A2 (`(Dz + 1.01)^10`
+    /// weights: 10 % ground at the lowest Tregenza centre, 6 deg up, 45 % at the horizon).
+    pub fn bin_radiances(&self, patches: &SkyPatches, n: usize) -> Vec<f64> {
+        (0..patches.len())
+            .map(|i| self.bin_radiance(patches, i, n))
+            .collect()
+    }
+
+    /// [`GendaylitSky::bin_radiances`] of bin `i` alone.
+    pub fn bin_radiance(&self, patches: &SkyPatches, i: usize, n: usize) -> f64 {
+        let n = n.max(1);
+        let k = 1.0 / n as f64;
+        let mut sum = 0.0;
+        for a in 0..n {
+            for b in 0..n {
+                let d = patches.sample(i, (a as f64 + 0.5) * k, (b as f64 + 0.5) * k);
+                sum += self.radiance(d);
+            }
+        }
+        sum * k * k
     }
 
     /// gendaylit for a date and time (local standard time, or solar time), gensky's site
