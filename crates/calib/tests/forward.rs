@@ -76,7 +76,11 @@ fn truths_converge_far_below_the_differences_tested() {
 
 #[test]
 #[ignore = "traces the coefficients (about a CPU-minute in release); prints the table"]
-fn per_step_table() {
+fn per_step_table_within_the_known_bound() {
+    // The default (gendaymtx) step sky measured +0.5 to +2.2 % per step mean against real
+    // gendaylit + rtrace (issue 22: gendaylit's ground jump at DNI > 0 and its horizon blend
+    // are not modelled yet). This guards that state: a step mean beyond 3 % fails.
+    let mut worst: f64 = 0.0;
     let dir = fixtures();
     let t = truths();
     for scene_name in ["office", "office_open"] {
@@ -129,7 +133,11 @@ fn per_step_table() {
                     line += &format!(" {:+.1}", 100.0 * e);
                 }
                 eprintln!("{line} | {:+.2}", 100.0 * mean);
+                if model == StepSkyModel::Gendaymtx && scene_name == "office" {
+                    worst = worst.max(mean.abs());
+                }
             }
         }
     }
+    assert!(worst < 0.03, "worst step mean {:+.2} %", 100.0 * worst);
 }
