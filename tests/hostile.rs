@@ -250,3 +250,36 @@ fn non_finite_matrix_values_name_row_and_column() {
     assert_eq!(out.status.code(), Some(0), "{err}");
     assert!(err.contains("2 negative illuminance values"), "{err}");
 }
+
+/// Error lines echoed whole binary lines and 50 KB tokens.
+#[test]
+fn quoted_input_in_errors_is_cut_to_a_readable_length() {
+    let d = tmpdir();
+    let token = "x".repeat(50_000);
+    let scene = write(
+        d.path(),
+        "t.rad",
+        &format!("{MATERIAL}m polygon p 0 0 {token}\n"),
+    );
+    let e = one_line_error("rinfo", &[&scene], b"");
+    assert!(
+        e.len() < 400 && e.contains("..."),
+        "{} bytes: {}",
+        e.len(),
+        &e[..e.len().min(300)]
+    );
+    let mut junk = b"void plastic m 0 0 5 .5 .5 .5 0 0\nm polygon p 0 0 \x01\x02\x1b[2J".to_vec();
+    junk.extend(std::iter::repeat_n(b'\xfe', 20_000));
+    let bin = d.path().join("b.rad");
+    std::fs::write(&bin, &junk).unwrap();
+    let e = one_line_error(
+        "rdc",
+        &["-I", "-m", "1", bin.to_str().unwrap()],
+        b"1 1 1 0 0 1\n",
+    );
+    assert!(
+        e.len() < 1200 && !e.contains('\u{1b}'),
+        "{} bytes: {e}",
+        e.len()
+    );
+}
