@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::{ours, run, tmpdir};
+use common::{ours, repo, run, run_ok, tmpdir};
 use std::path::Path;
 
 /// Run `tool args` with `stdin`; assert status 1, nothing on stdout and one stderr line,
@@ -249,6 +249,63 @@ fn non_finite_matrix_values_name_row_and_column() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(0), "{err}");
     assert!(err.contains("2 negative illuminance values"), "{err}");
+}
+
+const FLOOR: &str = "m polygon floor 0 0 9 0 0 0 1 0 0 0 1 0\n";
+
+/// A zero sensor direction gave an all-zero row (rcalib: a -100 % error) and an empty
+/// sensor file an NROWS=0 matrix with exit 0. rdc's ray stream keeps rtrace's flush
+/// convention; sensor files read for coefficients or metrics refuse it with file:line.
+#[test]
+fn zero_directions_and_empty_sensor_files_are_errors() {
+    let d = tmpdir();
+    let scene = write(d.path(), "room.rad", &format!("{MATERIAL}{FLOOR}"));
+    let rdc = ["-I", "-m", "1", "-ad", "1", "-h", scene.as_str()];
+    let e = one_line_error("rdc", &rdc, b"");
+    assert!(e.contains("no sensors in <stdin>"), "{e}");
+    // rtrace's flush request in a ray stream: still an empty record, one per input ray.
+    let out = run_ok(ours("rdc").args(rdc), b"0.5 0.5 1 0 0 0\n");
+    let text = String::from_utf8(out).unwrap();
+    assert_eq!(text.lines().count(), 1, "{text}");
+    assert!(text.split_whitespace().all(|v| v.parse::<f64>() == Ok(0.0)));
+
+    let zero = write(d.path(), "zero.pts", "1 1 1 0 0 1\n\n2 2 1 0 0 0\n");
+    let empty = write(d.path(), "empty.pts", "");
+    let weather = repo().join("tests/data/weather/tiny.wea");
+    let weather = weather.to_str().unwrap();
+    for (pts, want) in [
+        (&zero, format!("{zero}:3: sensor direction is 0 0 0")),
+        (&empty, format!("no sensors in {empty}")),
+    ] {
+        let apply = [
+            "apply",
+            &scene,
+            "--sensors",
+            pts,
+            "--effect",
+            "transmittance:0.9",
+        ];
+        let e = one_line_error("rcalib", &apply, b"");
+        assert!(e.contains(&want), "{e}");
+        let study = ["study", "-w", weather, "--pts", pts, "--ad", "1", &scene];
+        let e = one_line_error("rglod", &study, b"");
+        assert!(e.contains(&want), "{e}");
+        let out = d.path().join("mcop").display().to_string();
+        let mut mcop = study.to_vec();
+        mcop.extend(["-o", &out]);
+        let e = one_line_error("rmcop", &mcop, b"");
+        assert!(e.contains(&want), "{e}");
+    }
+    let csv = write(d.path(), "s.csv", "id,x,y,z,dx,dy,dz\nA,1,1,1,0,0,0\n");
+    let e = one_line_error(
+        "rcalib",
+        &["apply", &scene, "--sensors", &csv, "--effect", "walls:1"],
+        b"",
+    );
+    assert!(
+        e.contains(&format!("{csv}:2: sensor direction is 0 0 0")),
+        "{e}"
+    );
 }
 
 /// Error lines echoed whole binary lines and 50 KB tokens.

@@ -301,12 +301,7 @@ pub fn run(opts: &Options, out: &mut dyn Write) -> Result<()> {
                 ..glod::study::StudyConfig::default()
             };
             let weather = crate::formats::weather::Weather::read_path(weather)?;
-            let file = std::fs::File::open(pts).map_err(|e| Error::io(pts, e))?;
-            let sensors = crate::formats::sensors::read_rays(
-                std::io::BufReader::new(file),
-                pts,
-                crate::formats::sensors::RayFormat::Ascii,
-            )?;
+            let sensors = crate::formats::sensors::read_sensor_path(pts)?;
             let (scene, a) = common.analyse()?;
             let show = crate::io::show_progress();
             let progress = |what: &str| {

@@ -7,7 +7,6 @@
 
 use super::rglod::{By, FrameArg};
 use crate::error::{Error, IoContext, Result};
-use crate::formats::sensors::{RayFormat, read_rays};
 use crate::formats::shard::{InputSum, Manifest, Shard, check_manifests};
 use crate::formats::weather::Weather;
 use crate::mcop::study::{self, DrawRecord, SHARD_FORMAT, ShardFile};
@@ -254,8 +253,7 @@ impl Inputs {
     }
 
     fn sensors(&self) -> Result<Vec<crate::formats::sensors::SensorRay>> {
-        let file = std::fs::File::open(&self.pts).map_err(|e| Error::io(&self.pts, e))?;
-        read_rays(std::io::BufReader::new(file), &self.pts, RayFormat::Ascii)
+        crate::formats::sensors::read_sensor_path(&self.pts)
     }
 
     /// The inputs' checksums, for a shard's manifest.

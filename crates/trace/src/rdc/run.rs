@@ -707,6 +707,11 @@ pub fn sensors<R: BufRead, W: Write>(
             for r in reader.by_ref() {
                 pending.push(r?);
             }
+            // An empty input made an NROWS=0 matrix and exit 0 (issue #19): no sensors is
+            // a mistake (an empty file, the wrong redirection), not a result.
+            if pending.is_empty() {
+                return Err(crate::formats::sensors::no_sensors("<stdin>"));
+            }
             pending.len()
         }
     };
