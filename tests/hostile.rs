@@ -308,6 +308,40 @@ fn zero_directions_and_empty_sensor_files_are_errors() {
     );
 }
 
+/// rinfo called empty .mtx/.hdr/.epw files, headerless binary matrices, headerless .wea
+/// bodies, .pts files and PNG pictures scenes of "0 objects".
+#[test]
+fn rinfo_says_what_a_file_is() {
+    let d = tmpdir();
+    for name in ["a.mtx", "a.hdr", "a.epw"] {
+        let p = write(d.path(), name, "");
+        let e = one_line_error("rinfo", &[&p], b"");
+        assert!(e.contains(&format!("{p}: empty file (0 bytes)")), "{e}");
+    }
+    let bin = d.path().join("dc.dat");
+    std::fs::write(&bin, 0.25f32.to_ne_bytes().repeat(18)).unwrap();
+    let e = one_line_error("rinfo", &[bin.to_str().unwrap()], b"");
+    assert!(e.contains("binary data without a Radiance header"), "{e}");
+    let body = write(d.path(), "body.wea", "1 1 0.5 0 0\n1 1 1.5 0 0\n");
+    let e = one_line_error("rinfo", &[&body], b"");
+    assert!(e.contains("without a header: a .wea file needs"), "{e}");
+    let pts = write(d.path(), "c.pts", "# my sensors\n1 1 1 0 0 1\n");
+    let e = one_line_error("rinfo", &[&pts], b"");
+    assert!(e.contains(&format!("{pts}:1: expected a number")), "{e}");
+    let mtx = write(d.path(), "h.mtx", "1 2 3\n4 5 6\n");
+    let e = one_line_error("rinfo", &[&mtx], b"");
+    assert!(e.contains("no Radiance header"), "{e}");
+    let png = d.path().join("p.png");
+    image::RgbImage::new(3, 2).save(&png).unwrap();
+    let out = run_ok(ours("rinfo").arg(&png), b"");
+    let text = String::from_utf8(out).unwrap();
+    assert!(text.contains("PNG picture, 3 x 2 pixels"), "{text}");
+    // An empty scene is still a scene.
+    let rad = write(d.path(), "empty.rad", "");
+    let out = run_ok(ours("rinfo").arg(&rad), b"");
+    assert!(String::from_utf8_lossy(&out).contains("0 objects"));
+}
+
 /// Error lines echoed whole binary lines and 50 KB tokens.
 #[test]
 fn quoted_input_in_errors_is_cut_to_a_readable_length() {
