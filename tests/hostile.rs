@@ -342,6 +342,113 @@ fn rinfo_says_what_a_file_is() {
     assert!(String::from_utf8_lossy(&out).contains("0 objects"));
 }
 
+/// `rrecon eval` scored an empty or sphere-only truth as a perfect match (Chamfer 0).
+#[test]
+fn rrecon_eval_needs_surfaces_to_sample() {
+    let d = tmpdir();
+    let room = write(d.path(), "room.rad", &format!("{MATERIAL}{FLOOR}"));
+    let empty = write(d.path(), "empty.rad", "");
+    let ball = write(
+        d.path(),
+        "ball.rad",
+        &format!("{MATERIAL}m sphere s 0 0 4 0 0 0 1\n"),
+    );
+    for truth in [&empty, &ball] {
+        let e = one_line_error("rrecon", &["eval", truth, &room, "--samples", "100"], b"");
+        assert!(
+            e.contains(&format!("{truth}: no polygons to sample as the truth")),
+            "{e}"
+        );
+    }
+    let e = one_line_error("rrecon", &["eval", &room, &empty, "--samples", "100"], b"");
+    assert!(e.contains("as the reconstruction"), "{e}");
+}
+
+/// `rcalib apply --effect walls:1e300` wrote 0.95 under a comment saying x1e300.
+#[test]
+fn rcalib_apply_bounds_scales_and_says_what_it_wrote() {
+    let d = tmpdir();
+    let ex = repo().join("examples/calib");
+    let model = ex.join("model.rad").display().to_string();
+    let sensors = ex.join("sensors.csv").display().to_string();
+    let apply = |effect: &str| {
+        let mut c = ours("rcalib");
+        c.args(["apply", &model, "--sensors", &sensors, "--effect", effect]);
+        c
+    };
+    let e = one_line_error(
+        "rcalib",
+        &[
+            "apply",
+            &model,
+            "--sensors",
+            &sensors,
+            "--effect",
+            "walls:1e300",
+        ],
+        b"",
+    );
+    assert!(e.contains("scale 1e300 is above 10"), "{e}");
+    let out = String::from_utf8(run_ok(&mut apply("walls:2.5"), b"")).unwrap();
+    let notes: Vec<&str> = out.lines().take_while(|l| l.starts_with('#')).collect();
+    assert!(notes.iter().any(|l| l.contains("walls:2.500")), "{notes:?}");
+    assert!(
+        notes
+            .iter()
+            .any(|l| l.contains("written as 0.95 (the cap)")),
+        "{notes:?}"
+    );
+    let _ = d;
+}
+
+/// `rdc` took a view point at 1e300; geometry is bounded at 1e9 m, the view now too.
+#[test]
+fn far_view_points_are_refused() {
+    let d = tmpdir();
+    let scene = write(d.path(), "room.rad", &format!("{MATERIAL}{FLOOR}"));
+    let e = one_line_error(
+        "rdc",
+        &[
+            "-m", "1", "-vtv", "-vp", "1e300", "0", "0", "-vd", "0", "1", "0", "-x", "4", "-y",
+            "4", &scene,
+        ],
+        b"",
+    );
+    assert!(
+        e.contains("bad view: view point out of range") && e.contains("1e9 m"),
+        "{e}"
+    );
+}
+
+/// rspecsky turned a DNI of 1e308 into a sky of inf/NaN, and a negative DNI was an error
+/// in a .wea but a silent dark sky from an EPW: one policy for both formats.
+#[test]
+fn weather_values_are_bounded_in_both_formats() {
+    let d = tmpdir();
+    let head = "place X_Y\nlatitude 37.62\nlongitude 122.4\ntime_zone 120\nsite_elevation 3.0\n\
+                weather_data_file_units 1\n";
+    let wea = write(d.path(), "big.wea", &format!("{head}3 21 12.5 1e308 80\n"));
+    let e = one_line_error("rspecsky", &["-m", "1", &wea], b"");
+    assert!(
+        e.contains(&format!("{wea}:7: direct value 1e308 W/m2 is above 2041.5")),
+        "{e}"
+    );
+    let epw = std::fs::read_to_string(repo().join("tests/data/weather/london_2days.epw")).unwrap();
+    let mut lines: Vec<String> = epw.lines().map(String::from).collect();
+    let mut fields: Vec<String> = lines[20].split(',').map(String::from).collect();
+    fields[14] = "-5".into();
+    lines[20] = fields.join(",");
+    let bad = write(d.path(), "neg.epw", &(lines.join("\n") + "\n"));
+    let e = one_line_error("rspecsky", &["-m", "1", &bad], b"");
+    assert!(
+        e.contains(&format!("{bad}:21: negative Direct Normal")),
+        "{e}"
+    );
+    // The missing code passes, as Radiance passes it.
+    let ok = write(d.path(), "miss.wea", &format!("{head}3 21 12.5 9999 80\n"));
+    run_ok(ours("rspecsky").args(["-m", "1", &ok]), b"");
+}
+
 /// Error lines echoed whole binary lines and 50 KB tokens.
 #[test]
 fn quoted_input_in_errors_is_cut_to_a_readable_length() {
