@@ -449,6 +449,89 @@ fn weather_values_are_bounded_in_both_formats() {
     run_ok(ours("rspecsky").args(["-m", "1", &ok]), b"");
 }
 
+/// `rmtx -fa truncated.mtx > out` wrote a header promising NROWS=165, then 150 rows;
+/// `rmetrics melanopic` printed a header cut off at NCOLS= before its error.
+#[test]
+fn nothing_is_written_before_the_input_is_known_whole() {
+    let d = tmpdir();
+    let rows: Vec<String> = (0..150).map(|i| format!("{i} 2 3")).collect();
+    let t = write(
+        d.path(),
+        "t.mtx",
+        &format!(
+            "#?RADIANCE\nNROWS=165\nNCOLS=1\nNCOMP=3\nFORMAT=ascii\n\n{}\n",
+            rows.join("\n")
+        ),
+    );
+    let e = one_line_error("rmtx", &["-fa", &t], b"");
+    assert!(e.contains("ends after row 150 of 165"), "{e}");
+    let e = one_line_error("rmtx", &["--cat", &t, &t], b"");
+    assert!(e.contains("ends after row 150 of 165"), "{e}");
+    let rgb = write(
+        d.path(),
+        "rgb.mtx",
+        "#?RADIANCE\nNROWS=1\nNCOLS=2\nNCOMP=3\nFORMAT=ascii\n\n1 2 3 4 5 6\n",
+    );
+    let e = one_line_error("rmetrics", &["melanopic", &rgb], b"");
+    assert!(e.contains("spectral bands"), "{e}");
+}
+
+/// `rdc --se-out` replaced the old file with a header-only one on an input error, and a
+/// `--reweight` target that could not be replaced left its `.part` file behind.
+#[test]
+fn rdc_side_outputs_are_atomic() {
+    let d = tmpdir();
+    let scene = write(d.path(), "room.rad", &format!("{MATERIAL}{FLOOR}"));
+    let se = write(d.path(), "se.txt", "OLD\n");
+    let e = one_line_error(
+        "rdc",
+        &[
+            "-I",
+            "-m",
+            "1",
+            "-ad",
+            "4",
+            "--target-se",
+            "0.5",
+            "--se-out",
+            &se,
+            &scene,
+        ],
+        b"1 1 1 0 0 1\n1 2 3\n",
+    );
+    assert!(e.contains("<stdin>:2:"), "{e}");
+    assert_eq!(std::fs::read_to_string(&se).unwrap(), "OLD\n");
+    std::fs::create_dir(d.path().join("rw.dat")).unwrap();
+    let rw = d.path().join("rw.dat").display().to_string();
+    let out = run(
+        ours("rdc").args(["-I", "-m", "1", "-ad", "4", "--reweight", &rw, &scene]),
+        b"1 1 1 0 0 1\n",
+    );
+    assert_eq!(out.status.code(), Some(1));
+    let sky = write(
+        d.path(),
+        "sky.rad",
+        "void glow skyglow 0 0 4 1 1 1 0\nskyglow source sky 0 0 4 0 0 1 180\n",
+    );
+    std::fs::create_dir(d.path().join("pic.hdr")).unwrap();
+    let pic = d.path().join("pic.hdr").display().to_string();
+    let view = [
+        "-vtv", "-vp", "0.5", "0.5", "1", "-vd", "0", "1", "0", "-x", "4", "-y", "4",
+    ];
+    let out = run(
+        ours("rdc")
+            .args(view)
+            .args(["-ad", "1", "-o", &pic, &scene, &sky]),
+        b"",
+    );
+    assert_eq!(out.status.code(), Some(1));
+    let names: Vec<String> = std::fs::read_dir(d.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    assert!(!names.iter().any(|n| n.ends_with(".part")), "{names:?}");
+}
+
 /// Error lines echoed whole binary lines and 50 KB tokens.
 #[test]
 fn quoted_input_in_errors_is_cut_to_a_readable_length() {
