@@ -603,3 +603,48 @@ fn rrecon_is_reproducible_per_seed() {
     );
     assert!(one_thread == first, "one thread and all cores differ");
 }
+
+/// rcalib and rrecon named `--no-exec` in their refusal without accepting it; every tool
+/// that reads scenes takes it and says in --help that inline commands run by default.
+#[test]
+fn every_scene_reader_accepts_no_exec() {
+    let tools: [&[&str]; 7] = [
+        &["rdc"],
+        &["rglare", "annual"],
+        &["rcalib", "apply"],
+        &["rrecon"],
+        &["rglod", "study"],
+        &["rmcop", "study"],
+        &["rinfo"],
+    ];
+    for t in tools {
+        let out = run(ours(t[0]).args(&t[1..]).arg("--help"), b"");
+        let help = String::from_utf8_lossy(&out.stdout).replace(char::is_whitespace, " ");
+        let help = help.split_whitespace().collect::<Vec<_>>().join(" ");
+        assert!(help.contains("--no-exec"), "{t:?} --help: {help}");
+        assert!(help.contains("By default they run"), "{t:?} --help: {help}");
+    }
+    let d = tmpdir();
+    let scene = write(
+        d.path(),
+        "cmd.rad",
+        &format!("{MATERIAL}!echo m polygon p 0 0 9 0 0 0 1 0 0 0 1 0\n"),
+    );
+    let e = one_line_error("rrecon", &["eval", "--no-exec", &scene, &scene], b"");
+    assert!(e.contains("refused to run inline command '!echo"), "{e}");
+    let pts = write(d.path(), "s.pts", "0.5 0.5 1 0 0 1\n");
+    let e = one_line_error(
+        "rcalib",
+        &[
+            "apply",
+            "--no-exec",
+            &scene,
+            "--sensors",
+            &pts,
+            "--effect",
+            "transmittance:0.9",
+        ],
+        b"",
+    );
+    assert!(e.contains("refused to run inline command '!echo"), "{e}");
+}

@@ -150,7 +150,8 @@ pub struct Common {
     /// (the seed's derivation, section 2.3.1) instead of --thresholds.
     #[arg(long, conflicts_with = "thresholds")]
     pub percentiles: bool,
-    /// Refuse inline `!commands` in scenes (also: RDAYLIGHT_NO_EXEC=1).
+    /// Refuse inline `!commands` in scenes (error instead). By default they run, as in
+    /// Radiance; also RDAYLIGHT_NO_EXEC=1.
     #[arg(long)]
     pub no_exec: bool,
     /// Scene files, in order (`-` = standard input).

@@ -161,7 +161,8 @@ pub struct Inputs {
     /// Minimum OBB areas (m2) of GLoD1, GLoD2, GLoD3.
     #[arg(long, value_name = "A1,A2,A3", default_value = "3.0,2.4,0.5")]
     pub thresholds: String,
-    /// Refuse inline `!commands` in scenes (also: RDAYLIGHT_NO_EXEC=1).
+    /// Refuse inline `!commands` in scenes (error instead). By default they run, as in
+    /// Radiance; also RDAYLIGHT_NO_EXEC=1.
     #[arg(long)]
     pub no_exec: bool,
     /// Scene files, in order.
