@@ -12,6 +12,9 @@ fn main() {
 
 fn real_main() -> Result<(), Error> {
     let cli = rdaylight::cli::parse_or_exit::<Cli>(radiance_spellings(std::env::args()))?;
+    if cli.no_exec {
+        rdaylight::scene::refuse_exec();
+    }
     let stdout = std::io::stdout();
     let out = &mut stdout.lock();
     match cli.cmd {

@@ -314,7 +314,9 @@ pub fn run(raw: &[String]) -> Result<()> {
              of a grid of view rays (--rays N per side) and the exact sun disc. The rdc options \
              (-ab -ad -lw -m MF -s seed -n threads) set the sampling. Output: '#' lines (method, \
              threshold, view, occupancy, glare autonomy, shares above 0.35/0.40/0.45, EN 17037 \
-             class), then per step: month day hour DGP Ev Ev_sun nsources sun_in_view DGP_dcglare."
+             class), then per step: month day hour DGP Ev Ev_sun nsources sun_in_view DGP_dcglare.\n\n\
+             --no-exec  refuse inline `!commands` in scene files (error instead). By default they \
+             run, as in Radiance; also RDAYLIGHT_NO_EXEC=1."
         );
         return Ok(());
     }

@@ -50,6 +50,10 @@ Coefficients are cached in --cache (default .rcalib-cache): re-runs trace nothin
 pub struct Cli {
     #[command(subcommand)]
     pub cmd: Cmd,
+    /// Refuse inline `!commands` in scene files (error instead). By default they run, as in
+    /// Radiance; also RDAYLIGHT_NO_EXEC=1.
+    #[arg(long, global = true)]
+    pub no_exec: bool,
 }
 
 #[derive(Subcommand)]

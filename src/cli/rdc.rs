@@ -249,7 +249,8 @@ pub struct Options {
     #[arg(long = "stats")]
     pub stats: bool,
 
-    /// Do not run !commands in scene files (error instead; Radiance always runs them).
+    /// Refuse inline `!commands` in scene files (error instead). By default they run, as in
+    /// Radiance; also RDAYLIGHT_NO_EXEC=1.
     #[arg(long = "no-exec")]
     pub no_exec: bool,
 

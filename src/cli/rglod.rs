@@ -150,7 +150,8 @@ pub struct Common {
     /// (the seed's derivation, section 2.3.1) instead of --thresholds.
     #[arg(long, conflicts_with = "thresholds")]
     pub percentiles: bool,
-    /// Refuse inline `!commands` in scenes (also: RDAYLIGHT_NO_EXEC=1).
+    /// Refuse inline `!commands` in scenes (error instead). By default they run, as in
+    /// Radiance; also RDAYLIGHT_NO_EXEC=1.
     #[arg(long)]
     pub no_exec: bool,
     /// Scene files, in order (`-` = standard input).
@@ -301,12 +302,7 @@ pub fn run(opts: &Options, out: &mut dyn Write) -> Result<()> {
                 ..glod::study::StudyConfig::default()
             };
             let weather = crate::formats::weather::Weather::read_path(weather)?;
-            let file = std::fs::File::open(pts).map_err(|e| Error::io(pts, e))?;
-            let sensors = crate::formats::sensors::read_rays(
-                std::io::BufReader::new(file),
-                pts,
-                crate::formats::sensors::RayFormat::Ascii,
-            )?;
+            let sensors = crate::formats::sensors::read_sensor_path(pts)?;
             let (scene, a) = common.analyse()?;
             let show = crate::io::show_progress();
             let progress = |what: &str| {

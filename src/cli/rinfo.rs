@@ -30,7 +30,8 @@ pub struct Options {
     #[arg(long)]
     pub stats: bool,
 
-    /// Refuse inline `!commands` in scenes (also: RDAYLIGHT_NO_EXEC=1).
+    /// Refuse inline `!commands` in scenes (error instead). By default they run, as in
+    /// Radiance; also RDAYLIGHT_NO_EXEC=1.
     #[arg(long)]
     pub no_exec: bool,
 

@@ -7,7 +7,6 @@
 
 use super::rglod::{By, FrameArg};
 use crate::error::{Error, IoContext, Result};
-use crate::formats::sensors::{RayFormat, read_rays};
 use crate::formats::shard::{InputSum, Manifest, Shard, check_manifests};
 use crate::formats::weather::Weather;
 use crate::mcop::study::{self, DrawRecord, SHARD_FORMAT, ShardFile};
@@ -162,7 +161,8 @@ pub struct Inputs {
     /// Minimum OBB areas (m2) of GLoD1, GLoD2, GLoD3.
     #[arg(long, value_name = "A1,A2,A3", default_value = "3.0,2.4,0.5")]
     pub thresholds: String,
-    /// Refuse inline `!commands` in scenes (also: RDAYLIGHT_NO_EXEC=1).
+    /// Refuse inline `!commands` in scenes (error instead). By default they run, as in
+    /// Radiance; also RDAYLIGHT_NO_EXEC=1.
     #[arg(long)]
     pub no_exec: bool,
     /// Scene files, in order.
@@ -254,8 +254,7 @@ impl Inputs {
     }
 
     fn sensors(&self) -> Result<Vec<crate::formats::sensors::SensorRay>> {
-        let file = std::fs::File::open(&self.pts).map_err(|e| Error::io(&self.pts, e))?;
-        read_rays(std::io::BufReader::new(file), &self.pts, RayFormat::Ascii)
+        crate::formats::sensors::read_sensor_path(&self.pts)
     }
 
     /// The inputs' checksums, for a shard's manifest.

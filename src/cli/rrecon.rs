@@ -31,6 +31,10 @@ pub struct Cli {
     pub command: Option<Command>,
     #[command(flatten)]
     pub recon: Recon,
+    /// Refuse inline `!commands` in scene files (simulate, eval, --materials; error
+    /// instead). By default they run, as in Radiance; also RDAYLIGHT_NO_EXEC=1.
+    #[arg(long, global = true)]
+    pub no_exec: bool,
 }
 
 #[derive(Subcommand, Debug)]

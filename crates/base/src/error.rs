@@ -62,13 +62,13 @@ impl fmt::Display for Location {
 #[derive(Debug, thiserror::Error)]
 pub enum Error {
     /// Malformed input: the message says what was found and what was expected.
-    #[error("{loc}: {msg}")]
+    #[error("{loc}: {}", readable(msg))]
     Parse { loc: Location, msg: String },
     /// Input that is well formed but that this tool does not model (yet).
-    #[error("{loc}: unsupported {what}")]
+    #[error("{loc}: unsupported {}", readable(what))]
     Unsupported { loc: Location, what: String },
     /// Two inputs that cannot be combined (shapes, bases, channel counts).
-    #[error("{0}")]
+    #[error("{}", readable(.0))]
     Mismatch(String),
     /// An I/O failure on a named file or stream.
     #[error("{path}: {source}")]
@@ -78,8 +78,91 @@ pub enum Error {
         source: std::io::Error,
     },
     /// Anything else that is the user's to fix (bad option values and the like).
-    #[error("{0}")]
+    #[error("{}", readable(.0))]
     Usage(String),
+}
+
+/// Longest piece of quoted input an error shows (characters, `...` included).
+pub const MAX_QUOTED: usize = 80;
+/// Longest run of non-blank characters an error shows outside quotes (paths included).
+const MAX_WORD: usize = 240;
+/// Longest message: beyond it the middle is cut, keeping what was found (the start) and
+/// what was expected (the end).
+const MAX_MESSAGE: usize = 1000;
+
+/// `s` cut to at most `max` characters, ending in `...` when cut.
+fn cut(s: &str, max: usize) -> String {
+    if s.chars().count() <= max {
+        return s.to_string();
+    }
+    let mut t: String = s.chars().take(max.saturating_sub(3)).collect();
+    t.push_str("...");
+    t
+}
+
+/// A piece of the user's input for an error message: at most [`MAX_QUOTED`] characters,
+/// control characters escaped, so a binary line or a 50 KB token stays one readable line.
+pub fn quoted(s: &str) -> String {
+    cut(&escape_controls(s), MAX_QUOTED)
+}
+
+/// Control characters (a binary file's bytes, a stray carriage return) as `\u{..}`
+/// escapes: an error must stay one line and must not drive the terminal.
+fn escape_controls(s: &str) -> String {
+    if !s.chars().any(char::is_control) {
+        return s.to_string();
+    }
+    s.chars()
+        .map(|c| {
+            if c.is_control() {
+                c.escape_default().to_string()
+            } else {
+                c.to_string()
+            }
+        })
+        .collect()
+}
+
+/// Every message as it is printed (issue #19: errors echoed whole binary lines and 50 KB
+/// tokens). Errors are built in hundreds of places, most of them quoting what they found
+/// as `'...'`; this is the one place that bounds them all: a quoted span (opened by a `'`
+/// that does not follow a letter or digit, closed by one not followed by one, so the
+/// apostrophe of "rtrace's" is not a quote) longer than [`MAX_QUOTED`] is cut, then any
+/// word longer than `MAX_WORD` and the whole message beyond `MAX_MESSAGE`.
+fn readable(msg: &str) -> std::borrow::Cow<'_, str> {
+    let short = msg.len() <= MAX_QUOTED && !msg.chars().any(char::is_control);
+    if short {
+        return std::borrow::Cow::Borrowed(msg);
+    }
+    let chars: Vec<char> = escape_controls(msg).chars().collect();
+    let alnum = |k: usize| chars.get(k).is_some_and(|c| c.is_alphanumeric());
+    let mut out = String::with_capacity(msg.len().min(2 * MAX_MESSAGE));
+    let mut i = 0;
+    while i < chars.len() {
+        let opens = chars[i] == '\'' && (i == 0 || !alnum(i - 1));
+        let close = opens
+            .then(|| (i + 1..chars.len()).find(|&j| chars[j] == '\'' && !alnum(j + 1)))
+            .flatten();
+        if let Some(j) = close {
+            let inner: String = chars[i + 1..j].iter().collect();
+            out.push('\'');
+            out.push_str(&cut(&inner, MAX_QUOTED));
+            out.push('\'');
+            i = j + 1;
+        } else {
+            out.push(chars[i]);
+            i += 1;
+        }
+    }
+    let words: Vec<String> = out.split(' ').map(|w| cut(w, MAX_WORD)).collect();
+    let joined = words.join(" ");
+    let n = joined.chars().count();
+    if n <= MAX_MESSAGE {
+        return std::borrow::Cow::Owned(joined);
+    }
+    let head: String = joined.chars().take(MAX_MESSAGE / 2).collect();
+    let tail: String = joined.chars().skip(n - MAX_MESSAGE / 2 + 5).collect();
+    std::borrow::Cow::Owned(format!("{head} ... {tail}"))
 }
 
 impl Error {
@@ -133,5 +216,37 @@ pub trait IoContext<T> {
 impl<T> IoContext<T> for std::io::Result<T> {
     fn at_path(self, path: &str) -> Result<T> {
         self.map_err(|e| Error::io(path, e))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn quoted_input_is_cut_and_escaped() {
+        let token = "x".repeat(50_000);
+        let e = Error::parse(
+            Location::line("a.rad", 3),
+            format!("found '{token}'; expected a number"),
+        );
+        let s = e.to_string();
+        assert!(s.len() < 120, "{s}");
+        assert!(
+            s.starts_with("a.rad:3: found 'xxx") && s.ends_with("...'; expected a number"),
+            "{s}"
+        );
+        let s = Error::Usage("bad byte '\u{1b}[2J\0' in rtrace's input".into()).to_string();
+        assert_eq!(s, "bad byte '\\u{1b}[2J\\u{0}' in rtrace's input");
+        // Apostrophes are not quotes; short messages pass unchanged.
+        let m = format!("rtrace's and Radiance's {}", "y".repeat(100));
+        assert_eq!(Error::Usage(m.clone()).to_string(), m);
+        let long = "word ".repeat(1000);
+        let s = Error::Usage(format!("{long}; expected the end")).to_string();
+        assert!(
+            s.chars().count() <= MAX_MESSAGE && s.ends_with("expected the end"),
+            "{s}"
+        );
+        assert_eq!(quoted(&"z".repeat(100)).chars().count(), MAX_QUOTED);
     }
 }

@@ -16,6 +16,17 @@
 //! no padding), and converts to and from `nalgebra::Vector3<f64>` and `[f64; 3]` for callers
 //! that use those.
 
+/// Largest magnitude of a coordinate, radius or normal component a shape may have, in scene
+/// units (metres). The BVH (`rdaylight_physics::geometry::bvh`) stores boxes in `f32`, whose
+/// largest value is 3.4e38: a sphere of radius 1e39 became an infinite box and obvhs indexed out of bounds
+/// (issue #19). 1e9 m (2.6 times the distance to the Moon) keeps box corners, their
+/// differences (2e9) and the squared extents of its surface-area heuristic (4e18) finite
+/// and exact enough in `f32`, and the squares the `f64` intersection routines form (1e18)
+/// far from overflow, while no daylight scene comes near it.
+/// View points (`-vp`) are held to the same bound: rays from there would meet the same
+/// BVH and overflow the same way (issue #19).
+pub const MAX_COORDINATE: f64 = 1e9;
+
 use std::ops::{Add, AddAssign, Div, Index, Mul, Neg, Sub, SubAssign};
 
 /// A 3-vector (point, direction or normal) in double precision.

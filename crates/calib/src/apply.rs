@@ -74,7 +74,15 @@ pub fn apply(
             e.describe(&ids, &wids)
         ));
         match e {
-            Effect::Transmittance { scale } => s = scaled_scene(&s, room, &[], *scale),
+            Effect::Transmittance { scale } => {
+                notes.extend(capped(
+                    &s,
+                    |_, o| matches!(o, Primitive::Glass { .. }),
+                    *scale,
+                    1.0,
+                ));
+                s = scaled_scene(&s, room, &[], *scale)
+            }
             Effect::Reflectance { class, scale } => {
                 if !room.materials.iter().any(|m| m.1 == *class) {
                     return Err(Error::Usage(format!(
@@ -83,6 +91,16 @@ pub fn apply(
                         class.name()
                     )));
                 }
+                let in_class = |id: &str, o: &Primitive| {
+                    room.materials.iter().any(|m| m.0 == id && m.1 == *class)
+                        && matches!(
+                            o,
+                            Primitive::Plastic { .. }
+                                | Primitive::Metal { .. }
+                                | Primitive::Trans { .. }
+                        )
+                };
+                notes.extend(capped(&s, in_class, *scale, 0.95));
                 s = scaled_scene(&s, room, &[(*class, *scale)], 1.0)
             }
             Effect::Obstruction {
@@ -200,6 +218,39 @@ pub fn apply(
         out.push('\n');
     }
     Ok(out)
+}
+
+/// What the changes note says about materials `scale` takes beyond `cap` (where
+/// [`scaled_scene`] clamps): the comment must say what was written, not only what was
+/// asked (issue #19: walls:1e300 wrote 0.95 under a comment saying x1e300).
+fn capped(
+    scene: &Scene,
+    selected: impl Fn(&str, &Primitive) -> bool,
+    scale: f64,
+    cap: f64,
+) -> Vec<String> {
+    scene
+        .objects
+        .iter()
+        .filter(|o| selected(&o.id, &o.kind))
+        .filter_map(|o| {
+            let values = match &o.kind {
+                Primitive::Plastic { color, .. }
+                | Primitive::Metal { color, .. }
+                | Primitive::Trans { color, .. } => color,
+                Primitive::Glass { transmissivity, .. } => transmissivity,
+                _ => return None,
+            };
+            let top = values.iter().copied().fold(0.0, f64::max);
+            (top * scale > cap).then(|| {
+                format!(
+                    "  {}: {top:.3} x {scale:.3} = {:.3}, written as {cap} (the cap)",
+                    o.id,
+                    top * scale
+                )
+            })
+        })
+        .collect()
 }
 
 /// Centre of the windows in plan (area weighted; the sensors' centroid if none) and the

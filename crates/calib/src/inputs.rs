@@ -7,8 +7,8 @@
 //! direct-normal and diffuse-horizontal irradiance) are the conditions of the measurement
 //! period.
 
-use crate::error::{Error, Result};
-use crate::formats::sensors::{RayFormat, Sensor, read_csv, read_rays};
+use crate::error::Result;
+use crate::formats::sensors::{Sensor, read_csv, read_sensor_file};
 
 /// Read sensors from a `.pts` or CSV file (see the module doc).
 pub fn load_sensors(path: &str) -> Result<Vec<Sensor>> {
@@ -17,10 +17,8 @@ pub fn load_sensors(path: &str) -> Result<Vec<Sensor>> {
     if first.trim_start().to_ascii_lowercase().starts_with("id") {
         return read_csv(&text, path);
     }
-    let rays = read_rays(text.as_bytes(), path, RayFormat::Ascii)?;
-    if rays.is_empty() {
-        return Err(Error::Usage(format!("{path}: no sensors")));
-    }
+    // A zero direction or an empty file is an error here (the module doc of sensors).
+    let rays = read_sensor_file(text.as_bytes(), path)?;
     Ok(rays
         .into_iter()
         .enumerate()

@@ -28,18 +28,69 @@ pub enum Kind {
     Weather,
     /// Lines of six numbers: sensor rays.
     Sensors,
+    /// Nothing at all (0 bytes).
+    Empty,
+    /// A PNG, JPEG or OpenEXR picture (by its magic bytes).
+    Photo(PhotoFormat),
+    /// Binary data without a Radiance header (a headerless `-ff`/`-fd` matrix or ray file).
+    Binary,
+    /// Lines of `month day hour direct diffuse`: a `.wea` body without its header.
+    WeaBody,
     /// Anything else is taken as a scene description.
     Scene,
 }
 
+/// Picture formats [`Kind::Photo`] recognises by their first bytes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PhotoFormat {
+    Png,
+    Jpeg,
+    Exr,
+}
+
+impl PhotoFormat {
+    fn name(self) -> &'static str {
+        match self {
+            PhotoFormat::Png => "PNG",
+            PhotoFormat::Jpeg => "JPEG",
+            PhotoFormat::Exr => "OpenEXR",
+        }
+    }
+}
+
+/// True for bytes no text file holds: NUL, or more than 1 % other control characters
+/// (binary floats always have some; a Latin-1 comment has none).
+fn is_binary(head: &[u8]) -> bool {
+    let control = head
+        .iter()
+        .filter(|&&b| (b < 0x20 && !b"\t\n\r\x0b\x0c".contains(&b)) || b == 0x7f)
+        .count();
+    head.contains(&0) || control * 100 > head.len()
+}
+
 /// Classify by content.
 pub fn detect(head: &[u8]) -> Kind {
+    if head.is_empty() {
+        return Kind::Empty;
+    }
     if head.starts_with(b"#?") {
         return Kind::Radiance;
+    }
+    if head.starts_with(b"\x89PNG\r\n\x1a\n") {
+        return Kind::Photo(PhotoFormat::Png);
+    }
+    if head.starts_with(&[0xff, 0xd8, 0xff]) {
+        return Kind::Photo(PhotoFormat::Jpeg);
+    }
+    if head.starts_with(&[0x76, 0x2f, 0x31, 0x01]) {
+        return Kind::Photo(PhotoFormat::Exr);
     }
     let text = String::from_utf8_lossy(&head[..head.len().min(4096)]);
     if crate::weather::detect(&text).is_some() {
         return Kind::Weather;
+    }
+    if is_binary(&head[..head.len().min(4096)]) {
+        return Kind::Binary;
     }
     let first = text
         .lines()
@@ -47,10 +98,39 @@ pub fn detect(head: &[u8]) -> Kind {
         .find(|l| !l.is_empty())
         .unwrap_or("");
     let words: Vec<&str> = first.split_whitespace().collect();
-    if words.len() == 6 && words.iter().all(|w| w.parse::<f64>().is_ok()) {
+    let numbers = words.iter().all(|w| w.parse::<f64>().is_ok());
+    let int = |w: &str, max: u32| w.parse::<u32>().is_ok_and(|v| (1..=max).contains(&v));
+    if words.len() == 6 && numbers {
         Kind::Sensors
+    } else if (words.len() == 5 || words.len() == 7)
+        && numbers
+        && int(words[0], 12)
+        && int(words[1], 31)
+    {
+        Kind::WeaBody
     } else {
         Kind::Scene
+    }
+}
+
+/// [`detect`], with the file's extension deciding what content that reads as a scene was
+/// meant to be (issue #19: a `.pts` with a comment line, an `.epw` without its LOCATION
+/// record or a `.mtx` without its header were summarised as scenes of "0 objects"), so the
+/// reader of that format reports the problem with its line.
+pub fn detect_file(head: &[u8], path: &str) -> Kind {
+    let kind = detect(head);
+    if kind != Kind::Scene {
+        return kind;
+    }
+    let ext = std::path::Path::new(path)
+        .extension()
+        .map(|e| e.to_string_lossy().to_ascii_lowercase())
+        .unwrap_or_default();
+    match ext.as_str() {
+        "pts" => Kind::Sensors,
+        "wea" | "epw" => Kind::Weather,
+        "mtx" | "smx" | "dmx" | "vmx" | "xml" | "hdr" | "pic" | "unf" | "dat" => Kind::Radiance,
+        _ => Kind::Scene,
     }
 }
 
@@ -378,8 +458,27 @@ pub fn describe(path: &str, detail: Detail, load: &crate::scene::LoadOptions) ->
     use crate::error::IoContext;
     use std::io::Read as _;
     let mut r = open_described(path)?;
-    let kind = detect(r.fill_buf().at_path(path)?);
+    let kind = detect_file(r.fill_buf().at_path(path)?, path);
+    let scene_ext = |p: &str| {
+        matches!(
+            std::path::Path::new(p).extension().and_then(|e| e.to_str()),
+            None | Some("rad" | "mat" | "sky" | "obj")
+        )
+    };
+    let not = |what: &str| Err(Error::parse(Location::file(path), what.to_string()));
     Ok(match kind {
+        // An empty scene is a scene; any other empty file is a mistake worth a line.
+        Kind::Empty if !scene_ext(path) || path == "-" => {
+            return not(
+                "empty file (0 bytes): no header, data or scene (was it written by a run that failed?)",
+            );
+        }
+        Kind::Radiance if !r.fill_buf().at_path(path)?.starts_with(b"#?") => {
+            return not(
+                "no Radiance header (expected '#?RADIANCE' on the first line): a headerless \
+                 matrix or picture (written with -h?) cannot be described",
+            );
+        }
         Kind::Radiance => match detail {
             Detail::Dimensions => format!("{path}: {}\n", dimensions(r, path)?),
             Detail::Stats => stats(r, path)?,
@@ -392,7 +491,41 @@ pub fn describe(path: &str, detail: Detail, load: &crate::scene::LoadOptions) ->
             describe_weather(&w, path)
         }
         Kind::Sensors => describe_sensors(r, path)?,
-        Kind::Scene => {
+        Kind::Photo(f) => {
+            let mut bytes = Vec::new();
+            r.read_to_end(&mut bytes).at_path(path)?;
+            let p = match f {
+                PhotoFormat::Exr => {
+                    crate::picture::exr::read_exr_from(std::io::Cursor::new(bytes), path)?
+                }
+                _ => crate::picture::preview::read_photo_bytes(&bytes, path)?,
+            };
+            let what = match f {
+                PhotoFormat::Exr => "linear values",
+                _ => "8-bit display values, not radiance: ruplift reads these",
+            };
+            format!(
+                "{path}: {} picture, {} x {} pixels, {} components ({what})\n",
+                f.name(),
+                p.width,
+                p.height,
+                p.ncomp()
+            )
+        }
+        Kind::Binary => {
+            return not(
+                "binary data without a Radiance header: a headerless float or double matrix \
+                 or ray file (written with -h or -ff/-fd) cannot be described; keep its header",
+            );
+        }
+        Kind::WeaBody => {
+            return not(
+                "lines of 'month day hour direct diffuse' without a header: a .wea file needs \
+                 its six header lines (place, latitude, longitude, time_zone, site_elevation, \
+                 weather_data_file_units) first",
+            );
+        }
+        Kind::Scene | Kind::Empty => {
             drop(r);
             describe_scene(&crate::scene::load(&[path], load)?, path)
         }
@@ -408,6 +541,27 @@ mod tests {
         assert_eq!(detect(b"#?RADIANCE\n"), Kind::Radiance);
         assert_eq!(detect(b"place London\nlatitude 51\n"), Kind::Weather);
         assert_eq!(detect(b"\n1 2 0.8 0 0 1\n"), Kind::Sensors);
+        assert_eq!(detect(b""), Kind::Empty);
+        assert_eq!(detect(b"1 1 0.5 0 0\n"), Kind::WeaBody);
+        assert_eq!(
+            detect(b"\x89PNG\r\n\x1a\n...."),
+            Kind::Photo(PhotoFormat::Png)
+        );
+        assert_eq!(
+            detect(&[0xff, 0xd8, 0xff, 0xe0]),
+            Kind::Photo(PhotoFormat::Jpeg)
+        );
+        assert_eq!(
+            detect(&[0x76, 0x2f, 0x31, 0x01, 2]),
+            Kind::Photo(PhotoFormat::Exr)
+        );
+        assert_eq!(detect(&1.5f32.to_ne_bytes().repeat(12)), Kind::Binary);
+        assert_eq!(
+            detect_file(b"# my sensors\n1 2 3 0 0 1\n", "a.pts"),
+            Kind::Sensors
+        );
+        assert_eq!(detect_file(b"junk\n", "a.epw"), Kind::Weather);
+        assert_eq!(detect_file(b"NROWS=3\n", "a.mtx"), Kind::Radiance);
         assert_eq!(
             detect(b"void plastic white 0 0 5 .5 .5 .5 0 0\n"),
             Kind::Scene

@@ -16,7 +16,11 @@
 //! A zero direction `(0, 0, 0)` is rtrace's "flush" request: it prints an empty record
 //! (zeros) and flushes its output (`rtrace()`, `bogusray()`). We keep such records as ordinary
 //! [`SensorRay`]s with [`SensorRay::is_flush`] true, so a consumer can emit its own empty record and keep
-//! output records aligned one-to-one with input rays, as rtrace does.
+//! output records aligned one-to-one with input rays, as rtrace does. That is right for a ray
+//! stream (`rdc` reads one, as rtrace and rcontrib do), but in a *sensor file* read for
+//! coefficients or metrics (`rcalib`, `rglod study --pts`, `rmcop --pts`) a zero direction
+//! is a typo whose all-zero row would pass as a dark sensor (rcalib showed a -100 % error):
+//! [`read_sensor_file`] refuses it with file:line, and refuses a file with no sensors.
 //!
 //! Also here: [`work_plane_grid`] (a regular grid of upward sensors over a rectangle) and the
 //! CSV form with sensor ids (`id,x,y,z,dx,dy,dz` with a header line), [`read_csv`] and
@@ -110,6 +114,11 @@ pub struct RayReader<R> {
 }
 
 impl<R: BufRead> RayReader<R> {
+    /// The line of the ray returned last (ascii; 0 before the first).
+    pub fn line(&self) -> usize {
+        self.line
+    }
+
     pub fn new(inner: R, file: impl Into<String>, format: RayFormat) -> Self {
         RayReader {
             inner,
@@ -285,6 +294,46 @@ fn shorten(s: &str) -> String {
     } else {
         s.to_string()
     }
+}
+
+/// The message for a zero sensor direction (one wording for the `.pts` and CSV forms).
+const ZERO_DIRECTION: &str = "sensor direction is 0 0 0: give the direction the sensor faces \
+     (e.g. 0 0 1 for an upward work-plane sensor); a zero direction is rtrace's flush request \
+     and would give an all-zero row";
+
+/// Read a sensor file for coefficients or metrics (ascii `x y z dx dy dz`): unlike a ray
+/// stream ([`read_rays`]), a zero direction is an error naming the line (see the module
+/// doc), and so is a file without sensors.
+pub fn read_sensor_file<R: BufRead>(r: R, file: &str) -> Result<Vec<SensorRay>> {
+    let mut reader = RayReader::new(r, file, RayFormat::Ascii);
+    let mut rays = Vec::new();
+    while let Some(ray) = reader.next() {
+        let ray = ray?;
+        if ray.is_flush() {
+            return Err(Error::parse(
+                Location::line(file, reader.line()),
+                ZERO_DIRECTION,
+            ));
+        }
+        rays.push(ray);
+    }
+    if rays.is_empty() {
+        return Err(no_sensors(file));
+    }
+    Ok(rays)
+}
+
+/// [`read_sensor_file`] of the file at `path`.
+pub fn read_sensor_path(path: &str) -> Result<Vec<SensorRay>> {
+    let f = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
+    read_sensor_file(std::io::BufReader::new(f), path)
+}
+
+/// The error for an input that holds no sensors (an empty file or stream).
+pub fn no_sensors(file: &str) -> Error {
+    Error::Usage(format!(
+        "no sensors in {file}: expected lines of 'x y z dx dy dz'"
+    ))
 }
 
 /// Read every ray of a stream.
@@ -481,6 +530,9 @@ pub fn read_csv(text: &str, file: &str) -> Result<Vec<Sensor>> {
                 )
             })?;
         }
+        if v[3..] == [0.0; 3] {
+            return Err(Error::parse(at(), ZERO_DIRECTION));
+        }
         if let Some(first) = seen.insert(id.to_string(), lno) {
             return Err(Error::parse(
                 at(),
@@ -500,6 +552,9 @@ pub fn read_csv(text: &str, file: &str) -> Result<Vec<Sensor>> {
             Location::line(file, 1),
             "expected the header 'id,x,y,z,dx,dy,dz', found an empty file",
         ));
+    }
+    if sensors.is_empty() {
+        return Err(no_sensors(file));
     }
     Ok(sensors)
 }
@@ -540,6 +595,31 @@ mod tests {
                 .unwrap_err()
                 .contains("found '#'")
         );
+    }
+
+    #[test]
+    fn sensor_files_refuse_zero_directions_and_emptiness() {
+        let e = read_sensor_file(&b"1 1 1 0 0 1\n\n2 2 2 0 0 0\n"[..], "s.pts").unwrap_err();
+        assert!(
+            e.to_string()
+                .starts_with("s.pts:3: sensor direction is 0 0 0"),
+            "{e}"
+        );
+        let e = read_sensor_file(&b"\n\n"[..], "s.pts").unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "no sensors in s.pts: expected lines of 'x y z dx dy dz'"
+        );
+        // A ray stream keeps rtrace's flush records.
+        let rays = read_rays(&b"1 1 1 0 0 0\n"[..], "-", RayFormat::Ascii).unwrap();
+        assert!(rays[0].is_flush());
+        let e = read_csv("id,x,y,z,dx,dy,dz\nA,1,1,1,0,0,0\n", "s.csv").unwrap_err();
+        assert!(
+            e.to_string().starts_with("s.csv:2: sensor direction"),
+            "{e}"
+        );
+        let e = read_csv("id,x,y,z,dx,dy,dz\n", "s.csv").unwrap_err();
+        assert!(e.to_string().starts_with("no sensors in s.csv"), "{e}");
     }
 
     #[test]

@@ -280,9 +280,25 @@ impl MelanopicConfig {
             Some(p) => Some(read_points(p)?.iter().map(|r| r.org).collect()),
             None => None,
         };
-        let mut reader =
-            crate::formats::matrix::MatrixReader::open(&self.input, &melanopic::read_options())?;
+        let opts = melanopic::read_options();
+        let mut reader = crate::formats::matrix::MatrixReader::open(&self.input, &opts)?;
         let stamps = self.stamps(reader.ncols())?;
+        // Everything that can be checked before the matrix is written (issue #19: a header
+        // cut off at NCOLS= came out before the error): the bands, the sensor count, and a
+        // file's data.
+        melanopic::BandWeights::new(&reader.info().channels).map_err(|e| match e {
+            Error::Mismatch(m) => Error::Mismatch(format!("{}: {m}", self.input)),
+            other => other,
+        })?;
+        if let (Some(p), Some(rows)) = (&positions, reader.nrows()) {
+            check_points(
+                self.pts.as_deref().unwrap_or(""),
+                p.len(),
+                &self.input,
+                rows,
+            )?;
+        }
+        crate::formats::matrix::reader::check_data(&self.input, &opts)?;
         let sums = self.write_matrix(&mut reader, stamps.as_deref(), stdout)?;
         if let Some(p) = &positions {
             let pts = self.pts.as_deref().unwrap_or("");

@@ -115,7 +115,10 @@ fn largest_component(points: &[[f64; 3]], idx: &[usize], n: [f64; 3], res: f64) 
     }
     let mut seen: HashMap<(i64, i64), bool> = HashMap::new();
     let mut best: Vec<usize> = vec![];
-    let keys: Vec<(i64, i64)> = cells.keys().copied().collect();
+    // Sorted: HashMap order changes from run to run, and it decided which of two equal
+    // components won and the order of the plane's points (issue #19).
+    let mut keys: Vec<(i64, i64)> = cells.keys().copied().collect();
+    keys.sort_unstable();
     for k in keys {
         if seen.contains_key(&k) {
             continue;

@@ -190,6 +190,16 @@ pub fn eval_run(truth: &str, recon: &str, samples: usize, out: &mut dyn Write) -
     )?;
     let mut t = eval::polygons_of_scene(&load_scene(truth)?.0);
     let mut r = eval::polygons_of_scene(&load_scene(recon)?.0);
+    // With nothing to sample on either side the distances stay 0, a perfect score for an
+    // empty or sphere-only file (issue #19): refuse it instead.
+    for (path, polys, role) in [(truth, &t, "truth"), (recon, &r, "reconstruction")] {
+        if polys.is_empty() {
+            return Err(Error::Usage(format!(
+                "{path}: no polygons to sample as the {role} (only polygons are compared; \
+                 spheres, cones, rings and 'furniture' are not): give the room's surfaces"
+            )));
+        }
+    }
     fix_t_junctions(&mut t, 1e-6);
     fix_t_junctions(&mut r, 1e-6);
     let c = eval::compare(&t, &r, samples);

@@ -402,6 +402,12 @@ pub fn merge_coplanar(polys: &[Vec<Vec3>], tol: f64) -> Vec<Vec<Vec3>> {
     {
         next.entry(a).or_default().push(b);
     }
+    // The edges came out of a HashMap in an order that changes from run to run; where a
+    // vertex has several outgoing edges, which one `pop` takes decides the loops, so sort
+    // them (issue #19: `rrecon --auto --seed 3` differed on every run).
+    for v in next.values_mut() {
+        v.sort_unstable();
+    }
     let mut loops = Vec::new();
     let mut starts: Vec<usize> = next.keys().copied().collect();
     starts.sort();

@@ -72,6 +72,10 @@ pub const FAMILIES: [&str; 9] = [
     "sensor-fault",
 ];
 
+/// Largest transmittance or reflectance scale `--effect` takes: a material of reflectance
+/// 0.095 (the darkest a room has) reaches the 0.95 cap at 10.
+pub const MAX_SCALE: f64 = 10.0;
+
 impl Effect {
     /// The family name (`walls` etc. for reflectance classes).
     pub fn family(&self) -> &'static str {
@@ -171,7 +175,7 @@ impl Effect {
         }
     }
 
-    /// Parse `NAME:params` (see [`Effect::spec`]).
+    /// Parse `NAME:params` (see [`Effect::spec`]); scales at most [`MAX_SCALE`].
     pub fn parse(spec: &str, sensor_ids: &[String], window_ids: &[String]) -> Result<Effect> {
         let (name, params) = spec.split_once(':').unwrap_or((spec, ""));
         let bad = |what: &str| {
@@ -203,9 +207,23 @@ impl Effect {
                 _ => Err(bad("expected one non-negative number")),
             }
         };
+        // A scale multiplies reflectances or transmittances that apply caps at 0.95 and 1;
+        // beyond MAX_SCALE every material is at its cap and the number means nothing
+        // (issue #19: walls:1e300 wrote 0.95 under a comment saying x1e300).
+        let scale = |s: &str| -> Result<f64> {
+            let v = one(s)?;
+            if v > MAX_SCALE {
+                return Err(bad(&format!(
+                    "scale {} is above {MAX_SCALE} (reflectances are capped at 0.95, \
+                     transmittances at 1; explain fits 0.3 .. 4)",
+                    s.trim()
+                )));
+            }
+            Ok(v)
+        };
         Ok(match name {
             "transmittance" => Effect::Transmittance {
-                scale: one(params)?,
+                scale: scale(params)?,
             },
             "walls" | "ceiling" | "floor" | "ground-albedo" => Effect::Reflectance {
                 class: match name {
@@ -214,7 +232,7 @@ impl Effect {
                     "floor" => SurfaceClass::Floor,
                     _ => SurfaceClass::Ground,
                 },
-                scale: one(params)?,
+                scale: scale(params)?,
             },
             "obstruction" => match nums(params)?.as_slice() {
                 [a, w, h] if (0.0..=90.0).contains(h) && *w > 0.0 => Effect::Obstruction {

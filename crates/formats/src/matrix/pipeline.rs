@@ -9,6 +9,10 @@
 //! Channels multiply per channel (RGB x RGB multiplies red by red, as dctimestep and rmtxop
 //! do). `-c`, `-s` and `-t` apply to the result (unlike rmtxop, where options before a
 //! matrix apply to that matrix).
+//!
+//! Nothing is written before the streamed inputs are known to be whole: binary files by
+//! their size, ascii and RGBE files by a first decoding pass. Standard input can be read
+//! only once, so a damaged stream is reported after the rows before the damage.
 
 use super::ops::{check_multiply, check_stack, scale_factors};
 use super::writer::{DOUBLE_DIGITS, FLOAT_DIGITS};
@@ -163,10 +167,12 @@ impl Pipeline {
         Ok(())
     }
 
-    /// Open every input; check shapes (and bands) before any large load.
+    /// Open every input; check shapes (and bands) before any large load, and the streamed
+    /// files' data before anything is written ([`super::reader::check_data`]).
     fn open(&self, inputs: &[String]) -> Result<Opened> {
         let mut readers = Vec::new();
-        for p in if self.stack { inputs } else { &inputs[..1] } {
+        let streamed = if self.stack { inputs } else { &inputs[..1] };
+        for p in streamed {
             readers.push(MatrixReader::open(p, &self.read)?);
         }
         let first = &readers[0];
@@ -182,6 +188,12 @@ impl Pipeline {
             o.check_stack()?;
         } else {
             o.load_chain(&inputs[1..], &self.read)?;
+        }
+        // A transposed result is held whole before it is written: no need to read twice.
+        if !self.transpose {
+            for p in streamed {
+                super::reader::check_data(p, &self.read)?;
+            }
         }
         Ok(o)
     }
@@ -280,6 +292,9 @@ impl Pipeline {
                  matrix with a second rmtx)"
                     .into(),
             ));
+        }
+        for p in inputs {
+            super::reader::check_data(p, &self.read)?;
         }
         let header = crate::shard::merged_header(&shards)?;
         if !self.manifests.is_empty() {

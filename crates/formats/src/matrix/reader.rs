@@ -118,6 +118,25 @@ impl MatrixReader<Box<dyn BufRead>> {
     }
 }
 
+/// Decode every row of the file at `path` and keep none: for a writer that must not start
+/// its output before it knows the input is whole (issue #19: `rmtx -fa truncated.mtx > out`
+/// wrote a header promising NROWS=165, then 150 rows). [`MatrixReader::open`] checks a
+/// binary file by its size; ascii and RGBE data can only be checked by decoding it, so this
+/// reads such a file twice. Standard input (`-`) cannot be read twice: a stream is checked
+/// as it is read, and the rows before an error are already written.
+pub fn check_data(path: &str, opts: &ReadOptions) -> Result<()> {
+    if path == "-" {
+        return Ok(());
+    }
+    let mut m = MatrixReader::open(path, opts)?;
+    if matches!(m.info.format, DataFormat::Float | DataFormat::Double) {
+        return Ok(());
+    }
+    let mut row = vec![0.0; m.row_len()];
+    while m.read_row(&mut row)? {}
+    Ok(())
+}
+
 /// A buffered reader that counts the bytes consumed (the header length of a file).
 struct Counted<R> {
     inner: R,

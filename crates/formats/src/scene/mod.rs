@@ -53,11 +53,24 @@ pub struct LoadOptions {
     pub command_env: Vec<(String, String)>,
 }
 
+/// Set by [`refuse_exec`]: `--no-exec` for the rest of the process.
+static REFUSE_EXEC: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+/// `--no-exec` of a tool that loads scenes in many places (rcalib's models, truths and
+/// re-simulations; rrecon's scenes): from now on [`LoadOptions::from_env`] (and `default`)
+/// refuse inline commands in this process, as `RDAYLIGHT_NO_EXEC=1` does. One switch instead
+/// of an option threaded through every loader, which a new loader could miss (issue #19:
+/// rcalib and rrecon named `--no-exec` in their refusal but did not accept it); setting the
+/// variable itself would need `unsafe` (`std::env::set_var`).
+pub fn refuse_exec() {
+    REFUSE_EXEC.store(true, std::sync::atomic::Ordering::Relaxed);
+}
+
 impl LoadOptions {
-    /// Options with `allow_exec` taken from `RDAYLIGHT_NO_EXEC`.
+    /// Options with `allow_exec` taken from `RDAYLIGHT_NO_EXEC` (and [`refuse_exec`]).
     pub fn from_env() -> Self {
-        let refuse =
-            std::env::var_os("RDAYLIGHT_NO_EXEC").is_some_and(|v| !v.is_empty() && v != "0");
+        let refuse = REFUSE_EXEC.load(std::sync::atomic::Ordering::Relaxed)
+            || std::env::var_os("RDAYLIGHT_NO_EXEC").is_some_and(|v| !v.is_empty() && v != "0");
         LoadOptions {
             allow_exec: !refuse,
             command_env: Vec::new(),

@@ -89,6 +89,14 @@ impl View {
             // Our parsers reject these already; a View built in code might not.
             return Err(bad("non-finite view parameter"));
         }
+        // Not a setview check: a view point beyond the geometry's bound (1e300 was accepted,
+        // issue #19) sends its rays into the BVH from where no scene can be.
+        let far = crate::vec3::MAX_COORDINATE;
+        if self.vp.iter().any(|c| c.abs() > far) {
+            return Err(bad(&format!(
+                "view point out of range: coordinates are at most +-{far:e} m, as for geometry"
+            )));
+        }
         let mut vdir = self.vd;
         let vdist = normalize(&mut vdir);
         if vdist == 0.0 {

@@ -22,7 +22,7 @@
 //! does not, and [`Epw::missing_counts`] reports them per field. An empty field is missing
 //! too (`loadEPW.c` leaves its default in place).
 
-use super::{check_date, integer, number, numbered_lines, shorten};
+use super::{check_date, check_solar_value, integer, number, numbered_lines, shorten};
 use crate::error::{Error, Location, Result};
 use nom::{
     IResult, Parser, bytes::complete::take_while, character::complete::char, multi::separated_list1,
@@ -634,6 +634,17 @@ fn parse_record(line: &str, lno: usize, file: &str) -> Result<EpwRecord> {
                 ),
             )
         })?);
+    }
+    // The direct and diffuse values the sky models read: the same policy as a `.wea`
+    // file's (negative or beyond 1.5 x the solar constant is an error, 9999 is missing).
+    for field in [
+        EpwField::DirectNormalRadiation,
+        EpwField::DiffuseHorizontalRadiation,
+    ] {
+        if let Some(v) = values[field as usize] {
+            let what = format!("{} (field {})", field.name(), field.number());
+            check_solar_value(v, &what, false).map_err(|m| Error::parse(at(), m))?;
+        }
     }
     Ok(EpwRecord {
         year,

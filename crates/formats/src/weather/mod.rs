@@ -47,6 +47,48 @@ pub enum WeaUnits {
     NormalIlluminance = 3,
 }
 
+/// Solar constant, W/m² (Kopp & Lean 2011, 1360.8 ± 0.5).
+pub const SOLAR_CONSTANT: f64 = 1361.0;
+/// Extraterrestrial solar illuminance, lx (Darula, Kittler & Gueymard 2005: 133.8 klx).
+pub const SOLAR_ILLUMINANCE: f64 = 133_800.0;
+/// How far above the top-of-atmosphere value a measured direct or diffuse value may be:
+/// cloud enhancement reaches about 1.3 x the clear-sky value, never 1.5 x the solar
+/// constant, so anything beyond is a unit or column mix-up (issue #19: a DNI of 1e308
+/// became a sky of inf and NaN).
+pub const MAX_OVER_EXTRATERRESTRIAL: f64 = 1.5;
+
+/// The one policy for the direct and diffuse values of both weather formats (issue #19:
+/// a negative DNI was an error in a `.wea` and silently a dark sky in an EPW): the missing
+/// code as written (9999 W/m², EPW's; 999900 lx, EPW's for illuminance; `epw2wea` copies
+/// it into `.wea` files) passes through unchanged, as Radiance passes it; any other value
+/// must lie in 0 ..= 1.5 x the extraterrestrial value. `what` names the value.
+pub(crate) fn check_solar_value(v: f64, what: &str, lux: bool) -> std::result::Result<(), String> {
+    let (code, top, unit) = if lux {
+        (999_900.0, SOLAR_ILLUMINANCE, "lx")
+    } else {
+        (9999.0, SOLAR_CONSTANT, "W/m2")
+    };
+    let max = MAX_OVER_EXTRATERRESTRIAL * top;
+    // 1e308 written out in full is 309 digits.
+    let v_shown = if v.abs() < 1e9 {
+        format!("{v}")
+    } else {
+        format!("{v:e}")
+    };
+    if v < 0.0 {
+        Err(format!(
+            "negative {what} value {v_shown}: irradiance/illuminance cannot be negative"
+        ))
+    } else if v > max && v != code {
+        Err(format!(
+            "{what} value {v_shown} {unit} is above {max} {unit} (1.5 x the extraterrestrial value): \
+             a unit or column mix-up? ({code} marks a missing value)"
+        ))
+    } else {
+        Ok(())
+    }
+}
+
 impl WeaUnits {
     /// The header code `1`, `2` or `3`.
     pub fn code(self) -> u8 {

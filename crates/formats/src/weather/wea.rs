@@ -22,14 +22,17 @@
 //!   with `fscanf`, so they could span lines, and ignores a lone 6th or any 8th column);
 //! - month and day must be integers, every value a finite number (Radiance's `%f` stops at
 //!   junk and keeps what it has);
-//! - negative direct or diffuse values are errors (physically impossible; Radiance passes
-//!   them to the sky model);
+//! - negative direct or diffuse values, and values above 1.5 x the extraterrestrial value
+//!   other than the missing code, are errors (physically impossible; Radiance passes them
+//!   to the sky model); the EPW reader applies the same policy
+//!   ([`super::check_solar_value`]);
 //! - at least one data row is required (`gendaymtx` exits with "no valid time steps").
 //!
 //! Blank lines between rows are skipped, as `fscanf` skips them.
 
 use super::{
-    Site, WeaUnits, Weather, WeatherStep, check_date, integer, number, numbered_lines, shorten,
+    Site, WeaUnits, Weather, WeatherStep, check_date, check_solar_value, integer, number,
+    numbered_lines, shorten,
 };
 use crate::error::{Error, Location, Result};
 use nom::{
@@ -198,13 +201,9 @@ pub fn parse(text: &str, file: &str) -> Result<Weather> {
         check_date(month, day, hour).map_err(|m| Error::parse(at(), m))?;
         let direct = num(3, "the direct value")?;
         let diffuse = num(4, "the diffuse value")?;
+        let lux = units == WeaUnits::NormalIlluminance;
         for (v, what) in [(direct, "direct"), (diffuse, "diffuse")] {
-            if v < 0.0 {
-                return Err(Error::parse(
-                    at(),
-                    format!("negative {what} value {v}: irradiance/illuminance cannot be negative"),
-                ));
-            }
+            check_solar_value(v, what, lux).map_err(|m| Error::parse(at(), m))?;
         }
         let (aod, sky_cover) = if toks.len() == 7 {
             (Some(num(5, "aod")?), Some(num(6, "sky cover")?))

@@ -130,14 +130,8 @@ impl ShapeError {
     }
 }
 
-/// Largest magnitude of a coordinate, radius or normal component a shape may have, in scene
-/// units (metres). The BVH ([`super::bvh`]) stores boxes in `f32`, whose largest value is
-/// 3.4e38: a sphere of radius 1e39 became an infinite box and obvhs indexed out of bounds
-/// (issue #19). 1e9 m (2.6 times the distance to the Moon) keeps box corners, their
-/// differences (2e9) and the squared extents of its surface-area heuristic (4e18) finite
-/// and exact enough in `f32`, and the squares the `f64` intersection routines form (1e18)
-/// far from overflow, while no daylight scene comes near it.
-pub const MAX_COORDINATE: f64 = 1e9;
+/// The largest coordinate a shape may have (its reasons: [`crate::vec3::MAX_COORDINATE`]).
+pub use crate::vec3::MAX_COORDINATE;
 
 /// The first finite argument of `values` beyond [`MAX_COORDINATE`] (non-finite ones are
 /// [`ShapeError::NonFinite`], reported by the per-shape checks).

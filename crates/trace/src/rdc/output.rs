@@ -279,7 +279,14 @@ impl<W: Write> Sink<W> {
 
 /// `--se-out FILE`: per record, relative standard error and samples taken (ascii matrix).
 pub struct SeWriter {
-    inner: Option<(String, std::io::BufWriter<std::fs::File>)>,
+    /// The target, the temporary file beside it that is renamed over it by
+    /// [`SeWriter::finish`], and the writer (issue #19: an input error replaced the old
+    /// file with a header-only one); dropped unfinished, the temporary file is removed.
+    inner: Option<(
+        String,
+        std::path::PathBuf,
+        std::io::BufWriter<std::fs::File>,
+    )>,
     line: Vec<u8>,
 }
 
@@ -291,8 +298,13 @@ impl SeWriter {
                 line: Vec::new(),
             });
         };
-        let f = std::fs::File::create(path).map_err(|e| Error::io(path, e))?;
-        let mut w = std::io::BufWriter::new(f);
+        let tmp = crate::io::temp_beside(std::path::Path::new(path));
+        let f = std::fs::File::create(&tmp).map_err(|e| Error::io(path, e))?;
+        // From here the guard owns the temporary file: any error below removes it.
+        let mut se = SeWriter {
+            inner: Some((path.to_string(), tmp, std::io::BufWriter::new(f))),
+            line: Vec::new(),
+        };
         let mut h = Header::new();
         h.push_command(command);
         h.push("rdc --se-out: relative standard error, samples per record");
@@ -301,15 +313,14 @@ impl SeWriter {
         h.set("NCOLS", 2);
         h.set("NCOMP", 1);
         h.set("FORMAT", "ascii");
-        h.write(&mut w, 1).map_err(|e| Error::io(path, e))?;
-        Ok(SeWriter {
-            inner: Some((path.to_string(), w)),
-            line: Vec::new(),
-        })
+        if let Some((_, _, w)) = &mut se.inner {
+            h.write(w, 1).map_err(|e| Error::io(path, e))?;
+        }
+        Ok(se)
     }
 
     pub fn write(&mut self, r: &RecordResult) -> Result<()> {
-        let Some((path, w)) = &mut self.inner else {
+        let Some((path, _, w)) = &mut self.inner else {
             return Ok(());
         };
         self.line.clear();
@@ -322,10 +333,31 @@ impl SeWriter {
             .map_err(|e| Error::io(path.as_str(), e))
     }
 
-    pub fn finish(self) -> Result<()> {
-        if let Some((path, mut w)) = self.inner {
-            w.flush().map_err(|e| Error::io(path, e))?;
+    /// Flush and move the file into place (only a complete run replaces the old file).
+    pub fn finish(mut self) -> Result<()> {
+        if let Some((path, tmp, w)) = self.inner.take() {
+            let done = w
+                .into_inner()
+                .map_err(|e| e.into_error())
+                .and_then(|f| {
+                    drop(f);
+                    std::fs::rename(&tmp, &path)
+                })
+                .map_err(|e| Error::io(path.as_str(), e));
+            // Taken from the guard: a failed flush or rename removes the file here.
+            if done.is_err() {
+                let _ = std::fs::remove_file(&tmp);
+            }
+            done?;
         }
         Ok(())
+    }
+}
+
+impl Drop for SeWriter {
+    fn drop(&mut self) {
+        if let Some((_, tmp, _)) = self.inner.take() {
+            let _ = std::fs::remove_file(tmp);
+        }
     }
 }

@@ -707,6 +707,11 @@ pub fn sensors<R: BufRead, W: Write>(
             for r in reader.by_ref() {
                 pending.push(r?);
             }
+            // An empty input made an NROWS=0 matrix and exit 0 (issue #19): no sensors is
+            // a mistake (an empty file, the wrong redirection), not a result.
+            if pending.is_empty() {
+                return Err(crate::formats::sensors::no_sensors("<stdin>"));
+            }
             pending.len()
         }
     };
@@ -971,9 +976,19 @@ impl ReweightFile {
     fn finish(mut self) -> Result<()> {
         if let Some((path, tmp, w)) = self.inner.take() {
             let mut f = w.into_inner();
-            f.flush().map_err(|e| Error::io(path.as_str(), e))?;
-            drop(f);
-            std::fs::rename(&tmp, &path).map_err(|e| Error::io(path.as_str(), e))?;
+            let done = f
+                .flush()
+                .and_then(|()| {
+                    drop(f);
+                    std::fs::rename(&tmp, &path)
+                })
+                .map_err(|e| Error::io(path.as_str(), e));
+            // The guard no longer holds the temporary file: a failed flush or rename (the
+            // target is a directory, issue #19) must remove it here.
+            if done.is_err() {
+                let _ = std::fs::remove_file(&tmp);
+            }
+            done?;
         }
         Ok(())
     }
