@@ -329,15 +329,33 @@ impl InputSum {
     /// A file by its content; a `!command` by its text (its output is not run twice);
     /// `-` (a scene on standard input) cannot be read twice and gets an empty hash.
     pub fn of_scene_input(name: &str) -> Result<InputSum> {
-        let mut h = Fnv64::default();
-        let bytes = if name.starts_with('!') || name == "-" {
+        if name.starts_with('!') || name == "-" {
+            let mut h = Fnv64::default();
             h.write(name.as_bytes());
-            0
-        } else {
-            let data = std::fs::read(name).map_err(|e| Error::io(name, e))?;
-            h.write(&data);
-            data.len() as u64
-        };
+            return Ok(InputSum {
+                name: name.to_string(),
+                bytes: 0,
+                fnv1a64: h.hex(),
+            });
+        }
+        InputSum::of_file(name)
+    }
+
+    /// A file by its content, read in blocks (coefficient matrices of a campus run are
+    /// hundreds of MB: hashing must not load them whole).
+    pub fn of_file(name: &str) -> Result<InputSum> {
+        use std::io::Read;
+        let mut f = std::fs::File::open(name).map_err(|e| Error::io(name, e))?;
+        let (mut h, mut bytes) = (Fnv64::default(), 0u64);
+        let mut buf = vec![0u8; 1 << 16];
+        loop {
+            let n = f.read(&mut buf).map_err(|e| Error::io(name, e))?;
+            if n == 0 {
+                break;
+            }
+            h.write(&buf[..n]);
+            bytes += n as u64;
+        }
         Ok(InputSum {
             name: name.to_string(),
             bytes,
@@ -364,25 +382,86 @@ pub struct Manifest {
 
 impl Manifest {
     pub fn read(path: &str) -> Result<Manifest> {
-        let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
-        serde_json::from_str(&text).map_err(|e| {
-            Error::parse(
-                crate::error::Location::line(path, e.line()),
-                format!("not an rdc shard manifest: {e}"),
-            )
-        })
+        read_json(path, "an rdc shard manifest")
     }
 
     /// Write atomically (a killed job leaves no half manifest behind).
     pub fn write(&self, path: &str) -> Result<()> {
-        let text =
-            serde_json::to_string_pretty(self).map_err(|e| Error::Usage(format!("{path}: {e}")))?;
-        crate::io::write_atomically(std::path::Path::new(path), |w| {
-            w.write_all(text.as_bytes())
-                .and_then(|_| w.write_all(b"\n"))
-                .map_err(|e| Error::io(path, e))
-        })
+        write_json(path, self)
     }
+
+    fn run_id(&self) -> RunId<'_> {
+        RunId {
+            tool: &self.tool,
+            version: &self.version,
+            command: &self.command,
+            seed: Some(self.seed),
+            inputs: &self.inputs,
+        }
+    }
+}
+
+/// Read a manifest (`what` names the kind in errors).
+pub(crate) fn read_json<T: serde::de::DeserializeOwned>(path: &str, what: &str) -> Result<T> {
+    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    serde_json::from_str(&text).map_err(|e| {
+        Error::parse(
+            crate::error::Location::line(path, e.line()),
+            format!("not {what}: {e}"),
+        )
+    })
+}
+
+/// Write a manifest atomically (a killed job leaves no half manifest behind).
+pub(crate) fn write_json<T: Serialize>(path: &str, value: &T) -> Result<()> {
+    let text =
+        serde_json::to_string_pretty(value).map_err(|e| Error::Usage(format!("{path}: {e}")))?;
+    crate::io::write_atomically(std::path::Path::new(path), |w| {
+        w.write_all(text.as_bytes())
+            .and_then(|_| w.write_all(b"\n"))
+            .map_err(|e| Error::io(path, e))
+    })
+}
+
+/// What makes pieces parts of one run, whatever the piece (rows of `rdc --shard`, views of
+/// `rglare annual --shard`, hours of `rmtx --hours`).
+pub(crate) struct RunId<'a> {
+    pub tool: &'a str,
+    pub version: &'a str,
+    pub command: &'a [String],
+    pub seed: Option<u64>,
+    pub inputs: &'a [InputSum],
+}
+
+/// The error naming what differs between the runs of manifests `p` and `p0`, if anything.
+pub(crate) fn same_run(p: &str, a: RunId, p0: &str, b: RunId) -> Result<()> {
+    let differ = |what: &str, x: &dyn std::fmt::Debug, y: &dyn std::fmt::Debug| {
+        Err(Error::Mismatch(format!(
+            "{p} and {p0} are pieces of different runs: {what} {x:?} vs {y:?}"
+        )))
+    };
+    if (a.tool, a.version) != (b.tool, b.version) {
+        return differ("tool version", &(a.tool, a.version), &(b.tool, b.version));
+    }
+    if a.seed != b.seed {
+        return differ("seed", &a.seed, &b.seed);
+    }
+    if a.command != b.command {
+        return differ("command", &a.command.join(" "), &b.command.join(" "));
+    }
+    for (x, y) in a.inputs.iter().zip(b.inputs) {
+        if x != y {
+            return Err(Error::Mismatch(format!(
+                "{p} and {p0} are pieces of different inputs: {} (fnv1a64 {}, {} bytes) vs \
+                 {} (fnv1a64 {}, {} bytes)",
+                x.name, x.fnv1a64, x.bytes, y.name, y.fnv1a64, y.bytes
+            )));
+        }
+    }
+    if a.inputs.len() != b.inputs.len() {
+        return differ("number of inputs", &a.inputs.len(), &b.inputs.len());
+    }
+    Ok(())
 }
 
 /// Check that `manifests` (path, manifest) describe all N shards of one run (same tool
@@ -393,42 +472,19 @@ pub fn check_manifests(manifests: &[(String, Manifest)]) -> Result<()> {
         return Ok(());
     };
     for (p, m) in &manifests[1..] {
-        let differ = |what: &str, a: &dyn std::fmt::Debug, b: &dyn std::fmt::Debug| {
-            Err(Error::Mismatch(format!(
-                "{p} and {p0} are shards of different runs: {what} {a:?} vs {b:?}"
-            )))
-        };
-        if (&m.tool, &m.version) != (&m0.tool, &m0.version) {
-            return differ(
-                "tool version",
-                &(&m.tool, &m.version),
-                &(&m0.tool, &m0.version),
-            );
-        }
         if m.shard.count != m0.shard.count {
-            return differ("shard count N", &m.shard.count, &m0.shard.count);
-        }
-        if m.seed != m0.seed {
-            return differ("seed", &m.seed, &m0.seed);
-        }
-        if m.command != m0.command {
-            return differ("command", &m.command.join(" "), &m0.command.join(" "));
+            return Err(Error::Mismatch(format!(
+                "{p} and {p0} are shards of different runs: shard count N {} vs {}",
+                m.shard.count, m0.shard.count
+            )));
         }
         if m.total_rows != m0.total_rows {
-            return differ("total rows", &m.total_rows, &m0.total_rows);
+            return Err(Error::Mismatch(format!(
+                "{p} and {p0} are shards of different runs: total rows {} vs {}",
+                m.total_rows, m0.total_rows
+            )));
         }
-        for (a, b) in m.inputs.iter().zip(&m0.inputs) {
-            if a != b {
-                return Err(Error::Mismatch(format!(
-                    "{p} and {p0} are shards of different inputs: {} (fnv1a64 {}, {} bytes) vs \
-                     {} (fnv1a64 {}, {} bytes)",
-                    a.name, a.fnv1a64, a.bytes, b.name, b.fnv1a64, b.bytes
-                )));
-            }
-        }
-        if m.inputs.len() != m0.inputs.len() {
-            return differ("number of inputs", &m.inputs.len(), &m0.inputs.len());
-        }
+        same_run(p, m.run_id(), p0, m0.run_id())?;
     }
     check_indices(manifests.iter().map(|(p, m)| (p.as_str(), m.shard)))
 }

@@ -4,7 +4,11 @@
 //! header (and loads every right operand) before anything is written, so a shape or
 //! NCOMP mismatch is reported first; then the first input is streamed row by row through
 //! the multiplications, the channel transform (`rmtxop -c`) and the scale (`rmtxop -s`).
-//! With [`Pipeline::stack`] the inputs' row blocks are concatenated instead.
+//! With [`Pipeline::stack`] the inputs' row blocks are concatenated instead, with
+//! [`Pipeline::columns`] their column blocks (side by side). [`Pipeline::hours`] computes
+//! one time chunk of a product (columns `A..B` of the right-most matrix, 0-based,
+//! half-open), and `columns` merges such chunks back into the whole product's bytes
+//! ([`crate::hours`]).
 //!
 //! Channels multiply per channel (RGB x RGB multiplies red by red, as dctimestep and rmtxop
 //! do). `-c`, `-s` and `-t` apply to the result (unlike rmtxop, where options before a
@@ -18,9 +22,11 @@ use super::{
 };
 use crate::error::{Error, Result};
 use crate::header::Header;
+use crate::hours::{ChunkManifest, HOURS_VAR, HourSpan, HoursInfo};
 use crate::radiometry::Channels;
-use crate::shard::{Manifest, SHARD_VAR, ShardInfo};
-use std::io::{BufRead, Write};
+use crate::shard::{InputSum, Manifest, SHARD_VAR, ShardInfo};
+use std::io::{BufRead, Read, Write};
+use std::ops::Range;
 
 /// One `rmtx` run.
 #[derive(Debug, Clone, PartialEq)]
@@ -29,6 +35,9 @@ pub struct Pipeline {
     pub inputs: Vec<String>,
     /// Concatenate row blocks of inputs with equal NCOLS and NCOMP instead of multiplying.
     pub stack: bool,
+    /// Concatenate column blocks of inputs with equal NROWS and NCOMP (side by side)
+    /// instead of multiplying; `rmtx --hours` chunks are checked and merged verbatim.
+    pub columns: bool,
     /// How inputs without a header are read (`EXPOSURE=`/`COLORCORR=` are divided out).
     pub read: ReadOptions,
     /// Channel transform of the result (`rmtxop -c`): coefficients or one symbolic word.
@@ -48,19 +57,36 @@ pub struct Pipeline {
     /// The output is a seekable file.
     pub seekable: bool,
     /// With `stack`: the shards' manifests (`rdc --manifest`), checked against each other
-    /// and the inputs before the merge ([`crate::shard::check_manifests`]).
+    /// and the inputs before the merge ([`crate::shard::check_manifests`]); with `columns`:
+    /// the hour chunks' manifests ([`crate::hours::check_manifests`]).
     pub manifests: Vec<String>,
+    /// Compute only these hours: columns of the right-most matrix (the sky's time steps),
+    /// 0-based, half-open ([`crate::hours`]); the header gets a `HOURS=` line.
+    pub hours: Option<HourSpan>,
+    /// With `hours`: write the chunk's manifest here once the output is complete.
+    pub manifest: Option<String>,
 }
 
 /// The inputs, opened and checked, ready to stream.
 struct Opened {
-    /// Streamed inputs (the first, or all with `stack`).
+    /// Streamed inputs (the first, or all with `stack` or `columns`).
     readers: Vec<MatrixReader<Box<dyn BufRead>>>,
     /// Right operands, in memory.
     chain: Vec<Matrix>,
     nrows: Option<usize>,
     in_format: DataFormat,
     all_double: bool,
+    /// Read the readers side by side (`columns`) rather than one after the other.
+    side_by_side: bool,
+    /// With `stack`: the reader being read.
+    current: usize,
+    /// Rows delivered so far.
+    rows: usize,
+    /// With `hours`: the chunk's columns and the whole product's.
+    hours: Option<HoursInfo>,
+    /// With `hours` and no right operand: the columns kept of each streamed row.
+    keep: Option<Range<usize>>,
+    scratch: Vec<f64>,
 }
 
 impl Pipeline {
@@ -72,20 +98,54 @@ impl Pipeline {
         }
     }
 
-    /// Run the job, writing to `out` (`name` in errors); `progress(rows, finished)` is
-    /// called every 256 rows and once at the end.
-    pub fn run<W: Write>(&self, out: W, name: &str, progress: &dyn Fn(usize, bool)) -> Result<()> {
-        let inputs = self.inputs();
+    /// Option combinations that make no sense, refused before anything is read.
+    fn check_options(&self, inputs: &[String]) -> Result<()> {
         if inputs.iter().filter(|p| *p == "-").count() > 1 {
             return Err(Error::Usage(
                 "standard input used for more than one matrix".into(),
             ));
         }
-        if !self.manifests.is_empty() && !self.stack {
+        if self.stack && self.columns {
             return Err(Error::Usage(
-                "--manifests checks shards: it needs --cat".into(),
+                "--cat stacks rows, --cat-columns joins columns: give one of them".into(),
             ));
         }
+        if !self.manifests.is_empty() && !self.stack && !self.columns {
+            return Err(Error::Usage(
+                "--manifests checks shards or hour chunks: it needs --cat or --cat-columns".into(),
+            ));
+        }
+        if self.hours.is_some() && (self.stack || self.columns) {
+            return Err(Error::Usage(
+                "--hours computes one chunk of a product, --cat/--cat-columns merge: not both"
+                    .into(),
+            ));
+        }
+        if self.hours.is_some() && self.transpose {
+            return Err(Error::Usage(
+                "--hours with -t: chunks are merged along columns; transpose the merged \
+                 product instead"
+                    .into(),
+            ));
+        }
+        if self.manifest.is_some() && self.hours.is_none() {
+            return Err(Error::Usage(
+                "--manifest describes an hour chunk: it needs --hours A:B or K/N".into(),
+            ));
+        }
+        if self.manifest.is_some() && inputs.iter().any(|p| p == "-") {
+            return Err(Error::Usage(
+                "--manifest hashes the inputs: give matrix files, not standard input".into(),
+            ));
+        }
+        Ok(())
+    }
+
+    /// Run the job, writing to `out` (`name` in errors); `progress(rows, finished)` is
+    /// called every 256 rows and once at the end.
+    pub fn run<W: Write>(&self, out: W, name: &str, progress: &dyn Fn(usize, bool)) -> Result<()> {
+        let inputs = self.inputs();
+        self.check_options(&inputs)?;
         if self.stack {
             if let Some(shards) = self.shard_headers(&inputs)? {
                 return self.merge_shards(&inputs, shards, out, name, progress);
@@ -97,9 +157,29 @@ impl Pipeline {
                 )));
             }
         }
+        if self.columns {
+            if let Some(chunks) = self.chunk_headers(&inputs)? {
+                return self.merge_hours(&inputs, chunks, out, name, progress);
+            }
+            if !self.manifests.is_empty() {
+                return Err(Error::Mismatch(format!(
+                    "--manifests: {} has no HOURS= line (not an rmtx --hours output)",
+                    inputs[0]
+                )));
+            }
+        }
+        // Hash before reading: the manifest names what this chunk was computed from.
+        let sums = match &self.manifest {
+            Some(_) => inputs
+                .iter()
+                .map(|p| InputSum::of_file(p))
+                .collect::<Result<Vec<_>>>()?,
+            None => Vec::new(),
+        };
         let mut o = self.open(&inputs)?;
         let first_ch = o.readers[0].info().channels;
-        let (ncols, ncomp) = (o.readers[0].ncols(), o.readers[0].ncomp());
+        let ncomp = o.readers[0].ncomp();
+        let ncols = o.in_ncols();
         let transform = if self.coefs.is_empty() {
             None
         } else {
@@ -122,13 +202,14 @@ impl Pipeline {
         let wopts = self.write_options(&o, out_ncomp);
         let mut header = Header::new();
         header.push_command(&self.command);
+        if let Some(h) = &o.hours {
+            header.push(h.line());
+        }
         let out_ncols = ops.out_ncols(ncols);
         let mut row = vec![0.0; ncols * ncomp];
         let mut done = 0usize;
-        let mut each = |r: &mut MatrixReader<Box<dyn BufRead>>,
-                        f: &mut dyn FnMut(&[f64]) -> Result<()>|
-         -> Result<()> {
-            while r.read_row(&mut row)? {
+        let mut each = |o: &mut Opened, f: &mut dyn FnMut(&[f64]) -> Result<()>| -> Result<()> {
+            while o.next_row(&mut row)? {
                 f(ops.apply(&row))?;
                 done += 1;
                 if done % 256 == 0 {
@@ -139,12 +220,10 @@ impl Pipeline {
         };
         if self.transpose {
             let mut data = Vec::new();
-            for r in &mut o.readers {
-                each(r, &mut |v| {
-                    data.extend_from_slice(v);
-                    Ok(())
-                })?;
-            }
+            each(&mut o, &mut |v| {
+                data.extend_from_slice(v);
+                Ok(())
+            })?;
             let m = Matrix {
                 nrows: done,
                 ncols: out_ncols,
@@ -154,19 +233,34 @@ impl Pipeline {
             m.transpose().write(out, name, header, wopts)?;
         } else {
             let mut w = MatrixWriter::new(out, name, header, o.nrows, out_ncols, channels, wopts)?;
-            for r in &mut o.readers {
-                each(r, &mut |v| w.write_row(v))?;
-            }
+            each(&mut o, &mut |v| w.write_row(v))?;
             w.finish()?;
         }
         progress(done, true);
+        if let (Some(path), Some(h)) = (&self.manifest, &o.hours) {
+            ChunkManifest {
+                tool: "rmtx".into(),
+                version: env!("CARGO_PKG_VERSION").into(),
+                command: self.command.clone(),
+                first_hour: h.first,
+                end_hour: h.end,
+                total_hours: h.total,
+                inputs: sums,
+            }
+            .write(path)?;
+        }
         Ok(())
     }
 
     /// Open every input; check shapes (and bands) before any large load.
     fn open(&self, inputs: &[String]) -> Result<Opened> {
         let mut readers = Vec::new();
-        for p in if self.stack { inputs } else { &inputs[..1] } {
+        let streamed = if self.stack || self.columns {
+            inputs
+        } else {
+            &inputs[..1]
+        };
+        for p in streamed {
             readers.push(MatrixReader::open(p, &self.read)?);
         }
         let first = &readers[0];
@@ -177,11 +271,19 @@ impl Pipeline {
             all_double: in_format == DataFormat::Double,
             readers,
             chain: Vec::new(),
+            side_by_side: self.columns,
+            current: 0,
+            rows: 0,
+            hours: None,
+            keep: None,
+            scratch: Vec::new(),
         };
         if self.stack {
             o.check_stack()?;
+        } else if self.columns {
+            o.check_columns()?;
         } else {
-            o.load_chain(&inputs[1..], &self.read)?;
+            o.load_chain(&inputs[1..], &self.read, self.hours)?;
         }
         Ok(o)
     }
@@ -210,9 +312,7 @@ impl Pipeline {
     fn shard_headers(&self, inputs: &[String]) -> Result<Option<Vec<(String, Header, usize)>>> {
         let mut headers = Vec::new();
         for p in inputs.iter().filter(|p| *p != "-") {
-            let f = std::fs::File::open(p).map_err(|e| Error::io(p, e))?;
-            let h = Header::read(&mut std::io::BufReader::new(f), p)?;
-            headers.push((p.clone(), h));
+            headers.push((p.clone(), read_header(p)?));
         }
         if !headers.iter().any(|(_, h)| h.get(SHARD_VAR).is_some()) {
             return Ok(None);
@@ -263,6 +363,12 @@ impl Pipeline {
             all_double: false,
             readers,
             chain: Vec::new(),
+            side_by_side: false,
+            current: 0,
+            rows: 0,
+            hours: None,
+            keep: None,
+            scratch: Vec::new(),
         };
         o.check_stack()?;
         let info = o.readers[0].info().clone();
@@ -352,6 +458,168 @@ impl Pipeline {
     }
 }
 
+impl Pipeline {
+    /// With `--cat-columns`: the inputs' headers when they are `rmtx --hours` chunks (any
+    /// file with an `HOURS=` line), `None` for ordinary matrices.
+    fn chunk_headers(&self, inputs: &[String]) -> Result<Option<Vec<(String, Header)>>> {
+        let mut headers = Vec::new();
+        for p in inputs.iter().filter(|p| *p != "-") {
+            headers.push((p.clone(), read_header(p)?));
+        }
+        if !headers.iter().any(|(_, h)| h.get(HOURS_VAR).is_some()) {
+            return Ok(None);
+        }
+        if inputs.iter().any(|p| p == "-") {
+            return Err(Error::Usage(
+                "rmtx --hours chunks are merged from files, not standard input".into(),
+            ));
+        }
+        Ok(Some(headers))
+    }
+
+    /// `rmtx --cat-columns` of `rmtx --hours` chunks: check they are the chunks of one
+    /// product tiling its hours (and their manifests agree), write the whole product's
+    /// header, then each row as the chunks' row pieces verbatim, so the result has the
+    /// whole product's bytes (module docs of [`crate::hours`]). Every check, sizes
+    /// included, comes before the first byte is written.
+    fn merge_hours<W: Write>(
+        &self,
+        inputs: &[String],
+        chunks: Vec<(String, Header)>,
+        mut out: W,
+        name: &str,
+        progress: &dyn Fn(usize, bool),
+    ) -> Result<()> {
+        if !self.coefs.is_empty() || !self.scale.is_empty() || self.transpose {
+            return Err(Error::Usage(
+                "rmtx --cat-columns of hour chunks copies them verbatim: no -c, -s or -t \
+                 (convert the merged matrix with a second rmtx)"
+                    .into(),
+            ));
+        }
+        let (header, infos) = crate::hours::merged_header(&chunks)?;
+        // Opening checks each binary chunk's size against its NROWS and NCOLS.
+        let mut readers = Vec::new();
+        for p in inputs {
+            readers.push(MatrixReader::open(p, &self.read)?);
+        }
+        let info = readers[0].info().clone();
+        let elem = info.format.elem_size();
+        let row_bytes: Vec<usize> = readers.iter().map(|r| r.row_len() * elem).collect();
+        drop(readers);
+        let nrows = info.nrows.ok_or_else(|| {
+            Error::Mismatch(format!(
+                "{}: a chunk without NROWS= cannot be checked; give the product's first \
+                 matrix a header with NROWS",
+                inputs[0]
+            ))
+        })?;
+        if info.format.is_picture() {
+            return Err(Error::Usage(format!(
+                "{}: chunks in {} rows cannot be merged; write them with -fa, -ff or -fd",
+                inputs[0],
+                info.format.name()
+            )));
+        }
+        if self.format.is_some_and(|f| f != info.format) {
+            return Err(Error::Usage(
+                "rmtx --cat-columns of hour chunks copies them verbatim: no -f (convert the \
+                 merged matrix with a second rmtx)"
+                    .into(),
+            ));
+        }
+        if !self.manifests.is_empty() {
+            let mut ms = Vec::new();
+            for p in &self.manifests {
+                ms.push((p.clone(), ChunkManifest::read(p)?));
+            }
+            let named: Vec<(String, HoursInfo)> = chunks
+                .iter()
+                .map(|(p, _)| p.clone())
+                .zip(infos.iter().copied())
+                .collect();
+            crate::hours::check_manifests(&ms, &named)?;
+        }
+        let binary = matches!(info.format, DataFormat::Float | DataFormat::Double);
+        if !binary {
+            // One line per row (our ascii writer's layout): count them before writing.
+            for p in inputs {
+                let (lines, whole) = data_lines(p)?;
+                if lines != nrows || !whole {
+                    return Err(Error::Mismatch(format!(
+                        "{p}: NROWS={nrows} but the data holds {lines} lines{}: an \
+                         incomplete chunk?",
+                        if whole { "" } else { " and a partial one" }
+                    )));
+                }
+            }
+        }
+        let mut files = Vec::new();
+        for p in inputs {
+            let f = std::fs::File::open(p).map_err(|e| Error::io(p, e))?;
+            let mut r = std::io::BufReader::with_capacity(1 << 16, f);
+            Header::read(&mut r, p)?;
+            files.push(r);
+        }
+        if self.header {
+            let align = if binary && self.seekable { elem } else { 1 };
+            header
+                .write(&mut out, align)
+                .map_err(|e| Error::io(name, e))?;
+        }
+        let last = files.len() - 1;
+        let mut piece = Vec::new();
+        for row in 0..nrows {
+            for (k, (r, p)) in files.iter_mut().zip(inputs).enumerate() {
+                if binary {
+                    piece.resize(row_bytes[k], 0);
+                    r.read_exact(&mut piece).map_err(|e| Error::io(p, e))?;
+                } else {
+                    piece.clear();
+                    r.read_until(b'\n', &mut piece)
+                        .map_err(|e| Error::io(p, e))?;
+                    // A row's pieces join into one line: only the last keeps its newline.
+                    if k < last && piece.last() == Some(&b'\n') {
+                        piece.pop();
+                    }
+                }
+                out.write_all(&piece).map_err(|e| Error::io(name, e))?;
+            }
+            if row % 256 == 255 {
+                progress(row + 1, false);
+            }
+        }
+        out.flush().map_err(|e| Error::io(name, e))?;
+        progress(nrows, true);
+        Ok(())
+    }
+}
+
+/// The header of matrix file `p`.
+fn read_header(p: &str) -> Result<Header> {
+    let f = std::fs::File::open(p).map_err(|e| Error::io(p, e))?;
+    Header::read(&mut std::io::BufReader::new(f), p)
+}
+
+/// The newlines in the data of file `p` (after its header) and whether the data ends with
+/// one (or is empty).
+fn data_lines(p: &str) -> Result<(usize, bool)> {
+    let f = std::fs::File::open(p).map_err(|e| Error::io(p, e))?;
+    let mut r = std::io::BufReader::with_capacity(1 << 16, f);
+    Header::read(&mut r, p)?;
+    let (mut lines, mut last) = (0usize, b'\n');
+    loop {
+        let buf = r.fill_buf().map_err(|e| Error::io(p, e))?;
+        let Some(&b) = buf.last() else {
+            return Ok((lines, last == b'\n'));
+        };
+        lines += buf.iter().filter(|&&c| c == b'\n').count();
+        last = b;
+        let n = buf.len();
+        r.consume(n);
+    }
+}
+
 /// Copy `r` to `w` to the end; the bytes and newlines copied.
 fn copy_counting<R: BufRead, W: Write>(
     r: &mut R,
@@ -398,22 +666,138 @@ impl Opened {
         Ok(())
     }
 
-    /// Open the right operands, check their headers, then load them.
-    fn load_chain(&mut self, paths: &[String], ropts: &ReadOptions) -> Result<()> {
+    /// Open the right operands, check their headers, then load them. With `hours`, only
+    /// those columns of the right-most matrix are kept (of the streamed rows when there is
+    /// no right operand).
+    fn load_chain(
+        &mut self,
+        paths: &[String],
+        ropts: &ReadOptions,
+        hours: Option<HourSpan>,
+    ) -> Result<()> {
         let mut right = Vec::new();
         for p in paths {
             right.push(MatrixReader::open(p, ropts)?);
         }
         // Cheap header checks first, so a mismatch is reported before any large load.
         self.check_headers(&right)?;
+        let cols = match hours {
+            None => None,
+            Some(span) => {
+                let last = right.last().unwrap_or(&self.readers[0]);
+                let total = last.ncols();
+                let cols = span.resolve(total, last.name())?;
+                self.hours = Some(HoursInfo {
+                    first: cols.start,
+                    end: cols.end,
+                    total,
+                });
+                Some(cols)
+            }
+        };
+        if right.is_empty() {
+            self.keep = cols;
+            return Ok(());
+        }
+        let nright = right.len();
         let mut prev = self.first();
-        for mut r in right {
+        for (i, mut r) in right.into_iter().enumerate() {
             let name = r.name().to_string();
             self.note_format(r.info().format);
-            let m = Matrix::read_all(&mut r)?;
+            let m = match &cols {
+                Some(c) if i + 1 == nright => Matrix::read_columns(&mut r, c.clone())?,
+                _ => Matrix::read_all(&mut r)?,
+            };
             check_multiply(&prev.0, prev.1, &name, m.shape())?;
             prev = (name, m.shape());
             self.chain.push(m);
+        }
+        Ok(())
+    }
+
+    /// Columns of the rows [`Opened::next_row`] delivers.
+    fn in_ncols(&self) -> usize {
+        if self.side_by_side {
+            self.readers.iter().map(|r| r.ncols()).sum()
+        } else if let Some(k) = &self.keep {
+            k.len()
+        } else {
+            self.readers[0].ncols()
+        }
+    }
+
+    /// The next input row (`in_ncols * ncomp` numbers): the readers one after the other,
+    /// or side by side; `false` at the end.
+    fn next_row(&mut self, row: &mut [f64]) -> Result<bool> {
+        if self.side_by_side {
+            let mut off = 0;
+            let mut ended: Vec<usize> = Vec::new();
+            for (i, r) in self.readers.iter_mut().enumerate() {
+                let n = r.row_len();
+                if !r.read_row(&mut row[off..off + n])? {
+                    ended.push(i);
+                }
+                off += n;
+            }
+            if ended.is_empty() {
+                self.rows += 1;
+                return Ok(true);
+            }
+            if ended.len() == self.readers.len() {
+                return Ok(false);
+            }
+            let short = &self.readers[ended[0]];
+            let long = (0..self.readers.len())
+                .find(|i| !ended.contains(i))
+                .map_or("", |i| self.readers[i].name());
+            return Err(Error::Mismatch(format!(
+                "{} ends after {} rows but {long} has more: matrices joined side by side \
+                 need equal NROWS",
+                short.name(),
+                self.rows
+            )));
+        }
+        if let Some(k) = &self.keep {
+            let nc = self.readers[0].ncomp();
+            self.scratch.resize(self.readers[0].row_len(), 0.0);
+            if !self.readers[0].read_row(&mut self.scratch)? {
+                return Ok(false);
+            }
+            row.copy_from_slice(&self.scratch[k.start * nc..k.end * nc]);
+            self.rows += 1;
+            return Ok(true);
+        }
+        while self.current < self.readers.len() {
+            if self.readers[self.current].read_row(row)? {
+                self.rows += 1;
+                return Ok(true);
+            }
+            self.current += 1;
+        }
+        Ok(false)
+    }
+
+    /// `--cat-columns`: equal NROWS (where known) and NCOMP.
+    fn check_columns(&mut self) -> Result<()> {
+        let (fname, fshape) = self.first();
+        let mut formats = Vec::new();
+        for r in &self.readers[1..] {
+            let s = r.info().shape();
+            let rows_differ = matches!((fshape.nrows, s.nrows), (Some(a), Some(b)) if a != b);
+            if s.ncomp != fshape.ncomp || rows_differ {
+                return Err(Error::Mismatch(format!(
+                    "{} ({s}) cannot be joined beside {fname} ({fshape}): NROWS and NCOMP \
+                     must agree",
+                    r.name()
+                )));
+            }
+            if s.nrows.is_none() {
+                self.nrows = None;
+            }
+            formats.push(r.info().format);
+        }
+        for f in formats {
+            self.note_format(f);
         }
         Ok(())
     }
