@@ -434,27 +434,13 @@ impl Pipeline {
         for p in &self.manifests {
             ms.push((p.clone(), Manifest::read(p)?));
         }
-        crate::shard::check_manifests(&ms)?;
-        if ms.len() != shards.len() {
-            return Err(Error::Mismatch(format!(
-                "{} manifests for {} shards: give one manifest per shard, in the same order",
-                ms.len(),
-                shards.len()
-            )));
+        let mut pieces = Vec::new();
+        for (p, h, nrows) in shards {
+            let info = ShardInfo::of(h, p)?
+                .ok_or_else(|| Error::Mismatch(format!("{p} has no {SHARD_VAR}= line")))?;
+            pieces.push((p.as_str(), info, *nrows));
         }
-        for ((mp, m), (p, h, nrows)) in ms.iter().zip(shards) {
-            let s = ShardInfo::of(h, p)?.map(|i| (i.shard, i.first, i.total));
-            if s != Some((m.shard, m.first_row, m.total_rows)) || m.rows != *nrows {
-                return Err(Error::Mismatch(format!(
-                    "{mp} describes shard {} (rows {}..{} of {}) but {p} is not that shard",
-                    m.shard,
-                    m.first_row,
-                    m.first_row + m.rows,
-                    m.total_rows
-                )));
-            }
-        }
-        Ok(())
+        crate::shard::check_manifests_for(&ms, &pieces)
     }
 }
 
