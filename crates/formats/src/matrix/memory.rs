@@ -85,29 +85,6 @@ impl Matrix {
         })
     }
 
-    /// Read all remaining rows of `reader`, keeping columns `cols` only (an hour chunk of a
-    /// sky matrix: memory for the chunk, not the year). `cols` must lie within NCOLS.
-    pub fn read_columns<R: BufRead>(
-        reader: &mut MatrixReader<R>,
-        cols: std::ops::Range<usize>,
-    ) -> Result<Matrix> {
-        let nc = reader.ncomp();
-        let keep = cols.start * nc..cols.end * nc;
-        let mut data = Vec::new();
-        let mut row = vec![0.0; reader.row_len()];
-        let mut nrows = 0;
-        while reader.read_row(&mut row)? {
-            data.extend_from_slice(&row[keep.clone()]);
-            nrows += 1;
-        }
-        Ok(Matrix {
-            nrows,
-            ncols: cols.len(),
-            channels: reader.info().channels,
-            data,
-        })
-    }
-
     /// Load a matrix from a file (`-` = standard input); returns its header information too.
     pub fn load(path: &str, opts: &ReadOptions) -> Result<(Matrix, MatrixInfo)> {
         let mut r = MatrixReader::open(path, opts)?;
@@ -170,10 +147,11 @@ impl Matrix {
     pub fn multiply(&self, other: &Matrix) -> Result<Matrix> {
         super::ops::check_multiply("left", self.shape(), "right", other.shape())?;
         let mut out = Matrix::zeros(self.nrows, other.ncols, self.channels);
+        let op = super::Operand::from_matrix(other);
         for r in 0..self.nrows {
             let row = self.row(r);
             let n = out.row_len();
-            super::ops::multiply_row(row, other, &mut out.data[r * n..(r + 1) * n]);
+            op.multiply_row(row, &mut out.data[r * n..(r + 1) * n]);
         }
         Ok(out)
     }

@@ -17,8 +17,8 @@
 use super::ops::{check_multiply, check_stack, scale_factors};
 use super::writer::{DOUBLE_DIGITS, FLOAT_DIGITS};
 use super::{
-    ChannelTransform, DataFormat, Matrix, MatrixReader, MatrixWriter, ReadOptions, RowOps, Shape,
-    WriteOptions,
+    ChannelTransform, DataFormat, Matrix, MatrixReader, MatrixWriter, Operand, ReadOptions, RowOps,
+    Shape, WriteOptions,
 };
 use crate::error::{Error, Result};
 use crate::header::Header;
@@ -72,7 +72,7 @@ struct Opened {
     /// Streamed inputs (the first, or all with `stack` or `columns`).
     readers: Vec<MatrixReader<Box<dyn BufRead>>>,
     /// Right operands, in memory.
-    chain: Vec<Matrix>,
+    chain: Vec<Operand>,
     nrows: Option<usize>,
     in_format: DataFormat,
     all_double: bool,
@@ -690,10 +690,8 @@ impl Opened {
         for (i, mut r) in right.into_iter().enumerate() {
             let name = r.name().to_string();
             self.note_format(r.info().format);
-            let m = match &cols {
-                Some(c) if i + 1 == nright => Matrix::read_columns(&mut r, c.clone())?,
-                _ => Matrix::read_all(&mut r)?,
-            };
+            let keep = cols.clone().filter(|_| i + 1 == nright);
+            let m = Operand::read(&mut r, keep)?;
             check_multiply(&prev.0, prev.1, &name, m.shape())?;
             prev = (name, m.shape());
             self.chain.push(m);
