@@ -175,9 +175,15 @@ recon-example: build
 # single-host Slurm when none answers (installing slurm-wlm and munge with apt-get if
 # missing; state under /tmp/rdaylight-slurm); `make slurm-stop` stops it.
 SLURM_N ?= 3
-.PHONY: slurm-example slurm-stop
+.PHONY: slurm-example slurm-resume slurm-stop
 slurm-example: build
 	N=$(SLURM_N) OUT=$(OUT)/slurm BIN=$(BIN) RDC_OPTS="$(RDC_OPTS)" bash examples/slurm/run.sh
+
+# After a failed or interrupted slurm-example: submit again only the shards that are missing,
+# cut short or altered (each checked against its manifest by rmtx --verify), then the merge;
+# finished shards are never recomputed (examples/slurm/resume.sh).
+slurm-resume: build
+	N=$(SLURM_N) OUT=$(OUT)/slurm BIN=$(BIN) RDC_OPTS="$(RDC_OPTS)" bash examples/slurm/resume.sh
 
 slurm-stop:
 	bash examples/slurm/stop.sh

@@ -1,10 +1,13 @@
 //! The Slurm workflow of `examples/slurm/` on a tiny case: start a single-host Slurm
 //! (`start.sh`; installs slurm-wlm and munge with apt-get when missing), run the example
 //! room's coefficients as a job array of 3 shards plus the dependent merge (`run.sh`), and
-//! require the merged `dc.mtx` to equal an unsharded run's bytes.
+//! require the merged `dc.mtx` to equal an unsharded run's bytes. Then break it: delete
+//! shard 1 and flip a bit of shard 2; the merge must stop naming the shard, and
+//! `resume.sh` must submit exactly shards 1 and 2 again, leave shard 0's file untouched,
+//! and merge into the same bytes.
 //!
 //! Ignored by default (it needs root, apt and a few daemons, and takes ~30 s besides the
-//! release build): `RDAYLIGHT_SLURM=1 cargo test --release --test slurm -- --ignored`.
+//! build): `RDAYLIGHT_SLURM=1 cargo test --release --test slurm -- --ignored`.
 //! Slurm is left running for the next run; `examples/slurm/stop.sh` stops it.
 
 mod common;
@@ -53,5 +56,63 @@ fn slurm_array_merge_equals_single_run() {
     assert!(
         metrics.lines().any(|l| l.starts_with("room\t")),
         "no room metrics"
+    );
+
+    // Break it as a failed job would: shard 1 never written, shard 2 altered after writing.
+    use std::os::unix::fs::MetadataExt;
+    let shard = |k: usize| out.join(format!("dc.{k}.mtx"));
+    let before = std::fs::metadata(shard(0)).unwrap();
+    let bytes0 = std::fs::read(shard(0)).unwrap();
+    let mut two = std::fs::read(shard(2)).unwrap();
+    let n = two.len();
+    two[n - 2] ^= 0x01;
+    std::fs::write(shard(2), two).unwrap();
+    let merge = || {
+        let files: Vec<_> = (0..3).map(shard).collect();
+        let mans: Vec<_> = (0..3).map(|k| out.join(format!("dc.{k}.json"))).collect();
+        let m = Command::new(bin.join("rmtx"))
+            .arg("--cat")
+            .args(files)
+            .arg("--manifests")
+            .args(mans)
+            .output()
+            .unwrap();
+        assert!(!m.status.success(), "the merge must stop");
+        String::from_utf8_lossy(&m.stderr).into_owned()
+    };
+    let e = merge();
+    assert!(e.contains("dc.2.mtx") && e.contains("corrupt"), "{e}");
+    std::fs::remove_file(shard(1)).unwrap();
+    let e = merge();
+    assert!(e.contains("dc.1.mtx"), "{e}");
+    let resume = Command::new("bash")
+        .arg("examples/slurm/resume.sh")
+        .current_dir(repo())
+        .env("N", "3")
+        .env("OUT", &out)
+        .env("BIN", &bin)
+        .env("SENSORS", &sensors)
+        .env("RDC_OPTS", "-ab 2 -ad 64 -s 3")
+        .env("TIMEOUT", "300")
+        .output()
+        .expect("bash");
+    let said = String::from_utf8_lossy(&resume.stdout);
+    assert!(
+        resume.status.success(),
+        "resume.sh failed: {said}{}",
+        String::from_utf8_lossy(&resume.stderr)
+    );
+    assert!(said.contains("shards 1 2 of 3 resubmitted"), "{said}");
+    let after = std::fs::metadata(shard(0)).unwrap();
+    assert_eq!(
+        (after.ino(), after.mtime(), after.mtime_nsec()),
+        (before.ino(), before.mtime(), before.mtime_nsec()),
+        "shard 0 was complete: it must not be written again"
+    );
+    assert_eq!(std::fs::read(shard(0)).unwrap(), bytes0);
+    let merged = std::fs::read(out.join("dc.mtx")).unwrap();
+    assert!(
+        merged == single,
+        "after the resume, merged shards differ from the single run"
     );
 }

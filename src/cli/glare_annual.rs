@@ -538,6 +538,8 @@ pub fn run(raw: &[String]) -> Result<()> {
             rows: shown.len(),
             total_rows: items.len(),
             inputs: args.input_sums()?,
+            // The text shard's own `# END=` line checks its body.
+            output: None,
         }
         .write(path)?;
     }

@@ -30,7 +30,9 @@ Examples:
     rmtx -ff -c 47.4 119.9 11.6 --hours 4380:8760 dc.mtx sky.smx > ill.1.mtx
     rmtx --cat-columns ill.0.mtx ill.1.mtx > ill.mtx
   The same as array task K of N (the K-th of N blocks of hours), with manifests:
-    rmtx -ff dc.mtx sky.smx --hours $K/$N --manifest ill.$K.json > ill.$K.mtx";
+    rmtx -ff dc.mtx sky.smx --hours $K/$N --manifest ill.$K.json > ill.$K.mtx
+  Which rdc shards are complete (one line each; status 1 names the others):
+    rmtx --verify dc.0.mtx dc.1.mtx dc.2.mtx --manifests m0.json m1.json m2.json";
 
 /// Radiance matrix operations (rmtxop/dctimestep counterpart).
 ///
@@ -101,6 +103,14 @@ pub struct Options {
     /// byte. Only the chunk's columns of the sky are held in memory.
     #[arg(long = "hours", value_name = "A:B|K/N")]
     pub hours: Option<String>,
+
+    /// Check rdc shard files, each against its own manifest (--manifests, same order): its
+    /// SHARD= line and rows, the data's size and the FNV-1a hash of the bytes the job
+    /// wrote. Prints one line per shard (complete, or what is wrong) and fails naming
+    /// those that are missing, incomplete or corrupt; merges nothing. What
+    /// examples/slurm/resume.sh runs to decide which array tasks to submit again.
+    #[arg(long = "verify")]
+    pub verify: bool,
 
     /// With --hours: write the chunk's manifest (JSON: version, command, hours, each input
     /// file's size and FNV-1a 64 hash) once the output is complete.
@@ -185,6 +195,7 @@ impl Options {
                 .map(|h| HourSpan::parse(h, "--hours"))
                 .transpose()?,
             manifest: self.manifest.clone(),
+            verify: self.verify,
         })
     }
 }

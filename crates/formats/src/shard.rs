@@ -32,7 +32,11 @@
 //! `!command` by its text, the sensors as read from standard input). Only the files named
 //! on the command line are hashed, not files they reference (`.cal`, `specfile`, `!xform`
 //! targets). [`check_manifests`] refuses shards of different inputs, versions, seeds or
-//! commands and names the missing shard indices.
+//! commands and names the missing shard indices. The manifest also records the shard's
+//! output as written (`output`: size and FNV-1a hash of the bytes on standard output), so
+//! `rmtx --verify` and the merge ([`Manifest::check_output`]) tell a complete shard from a
+//! missing, truncated, altered or stale one and name it: what a resume of a failed job
+//! array needs to rerun only those (`examples/slurm/resume.sh`).
 
 use crate::error::{Error, Result};
 use crate::header::Header;
@@ -418,9 +422,31 @@ pub struct Manifest {
     pub rows: usize,
     pub total_rows: usize,
     pub inputs: Vec<InputSum>,
+    /// The shard's output as written (size and FNV-1a hash), so that a merge or a resume
+    /// can tell a complete shard from a truncated, altered or stale one. Absent in
+    /// manifests of older versions and of text shards (which carry their own `# END=`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub output: Option<InputSum>,
 }
 
 impl Manifest {
+    /// Check that file `path` holds the output this manifest recorded (nothing to check
+    /// when it recorded none).
+    pub fn check_output(&self, path: &str) -> Result<()> {
+        let Some(want) = &self.output else {
+            return Ok(());
+        };
+        let got = InputSum::of_file(path)?;
+        if (got.bytes, &got.fnv1a64) != (want.bytes, &want.fnv1a64) {
+            return Err(Error::Mismatch(format!(
+                "{path}: {} bytes, fnv1a64 {}, but its manifest recorded {} bytes, fnv1a64 \
+                 {}: a corrupt or stale shard; run shard {} again",
+                got.bytes, got.fnv1a64, want.bytes, want.fnv1a64, self.shard
+            )));
+        }
+        Ok(())
+    }
+
     pub fn read(path: &str) -> Result<Manifest> {
         read_json(path, "an rdc shard manifest")
     }
@@ -585,6 +611,15 @@ impl<W: std::io::Write> HashingWriter<W> {
 
     pub fn into_inner(self) -> W {
         self.inner
+    }
+
+    /// What was written, as a manifest records it (`name`: where it went).
+    pub fn sum(&self, name: &str) -> InputSum {
+        InputSum {
+            name: name.to_string(),
+            bytes: self.bytes,
+            fnv1a64: self.hash.hex(),
+        }
     }
 }
 

@@ -65,6 +65,10 @@ pub struct Pipeline {
     pub hours: Option<HourSpan>,
     /// With `hours`: write the chunk's manifest here once the output is complete.
     pub manifest: Option<String>,
+    /// Check each input, an `rdc --shard` output, against its manifest alone (one per
+    /// input in `manifests`) and report one line per shard instead of merging: what a
+    /// resume needs to know which shards to run again ([`Pipeline::verify_shards`]).
+    pub verify: bool,
 }
 
 /// The inputs, opened and checked, ready to stream.
@@ -105,14 +109,25 @@ impl Pipeline {
                 "standard input used for more than one matrix".into(),
             ));
         }
+        if self.verify
+            && (self.stack || self.columns || self.hours.is_some() || inputs.contains(&"-".into()))
+        {
+            return Err(Error::Usage(
+                "--verify checks shard files against their manifests: no --cat, \
+                 --cat-columns, --hours or standard input"
+                    .into(),
+            ));
+        }
         if self.stack && self.columns {
             return Err(Error::Usage(
                 "--cat stacks rows, --cat-columns joins columns: give one of them".into(),
             ));
         }
-        if !self.manifests.is_empty() && !self.stack && !self.columns {
+        if !self.manifests.is_empty() && !self.stack && !self.columns && !self.verify {
             return Err(Error::Usage(
-                "--manifests checks shards or hour chunks: it needs --cat or --cat-columns".into(),
+                "--manifests checks shards or hour chunks: it needs --cat, --cat-columns or \
+                 --verify"
+                    .into(),
             ));
         }
         if self.hours.is_some() && (self.stack || self.columns) {
@@ -146,6 +161,9 @@ impl Pipeline {
     pub fn run<W: Write>(&self, out: W, name: &str, progress: &dyn Fn(usize, bool)) -> Result<()> {
         let inputs = self.inputs();
         self.check_options(&inputs)?;
+        if self.verify {
+            return self.verify_shards(&inputs, out, name);
+        }
         if self.stack {
             if let Some(shards) = self.shard_headers(&inputs)? {
                 return self.merge_shards(&inputs, shards, out, name, progress);
@@ -440,7 +458,91 @@ impl Pipeline {
                 .ok_or_else(|| Error::Mismatch(format!("{p} has no {SHARD_VAR}= line")))?;
             pieces.push((p.as_str(), info, *nrows));
         }
-        crate::shard::check_manifests_for(&ms, &pieces)
+        crate::shard::check_manifests_for(&ms, &pieces)?;
+        // The bytes each shard's job wrote (a second read, before anything is written).
+        for ((_, m), (p, _, _)) in ms.iter().zip(shards) {
+            m.check_output(p)?;
+        }
+        Ok(())
+    }
+
+    /// `--verify`: each input against its own manifest: the `SHARD=` line and rows it
+    /// describes, the data's size and the output's hash. One line per shard on `out`
+    /// (`dc.3.mtx: complete (shard 3/8, rows 60..80 of 165)` or what is wrong); an error
+    /// naming the shards that are not complete.
+    fn verify_shards<W: Write>(&self, inputs: &[String], mut out: W, name: &str) -> Result<()> {
+        if self.manifests.len() != inputs.len() {
+            return Err(Error::Usage(format!(
+                "--verify: {} shard files and {} manifests; give one manifest per shard, in \
+                 the same order (--manifests last)",
+                inputs.len(),
+                self.manifests.len()
+            )));
+        }
+        let mut bad = Vec::new();
+        for (p, mp) in inputs.iter().zip(&self.manifests) {
+            let line = match self.verify_one(p, mp) {
+                Ok(s) => format!("{p}: complete ({s})"),
+                Err(e) => {
+                    bad.push(p.as_str());
+                    format!(
+                        "{p}: {}",
+                        e.to_string().trim_start_matches(&format!("{p}: "))
+                    )
+                }
+            };
+            writeln!(out, "{line}").map_err(|e| Error::io(name, e))?;
+        }
+        out.flush().map_err(|e| Error::io(name, e))?;
+        if bad.is_empty() {
+            return Ok(());
+        }
+        Err(Error::Mismatch(format!(
+            "{} of {} shards missing, incomplete or corrupt: {}",
+            bad.len(),
+            inputs.len(),
+            bad.join(" ")
+        )))
+    }
+
+    /// One shard against its manifest; the shard's description when it is complete.
+    fn verify_one(&self, p: &str, mp: &str) -> Result<String> {
+        let m = Manifest::read(mp)?;
+        let h = read_header(p)?;
+        let info = ShardInfo::of(&h, p)?
+            .ok_or_else(|| Error::Mismatch(format!("{p}: no {SHARD_VAR}= line: not a shard")))?;
+        let nrows = h.get_usize("NROWS", p)?;
+        if (info.shard, info.first, info.total) != (m.shard, m.first_row, m.total_rows)
+            || nrows != Some(m.rows)
+        {
+            return Err(Error::Mismatch(format!(
+                "{mp} describes shard {} (rows {}..{} of {}) but {p} is not that shard",
+                m.shard,
+                m.first_row,
+                m.first_row + m.rows,
+                m.total_rows
+            )));
+        }
+        // Opening checks a binary shard's size against NROWS; the hash checks every byte.
+        MatrixReader::open(p, &self.read)?;
+        if m.output.is_none() {
+            let (lines, whole) = data_lines(p)?;
+            let binary = h.format().is_some_and(|f| f == "float" || f == "double");
+            if !binary && (lines != m.rows || !whole) {
+                return Err(Error::Mismatch(format!(
+                    "{p}: NROWS={} but the data holds {lines} lines: an incomplete shard",
+                    m.rows
+                )));
+            }
+        }
+        m.check_output(p)?;
+        Ok(format!(
+            "shard {}, rows {}..{} of {}",
+            m.shard,
+            m.first_row,
+            m.first_row + m.rows,
+            m.total_rows
+        ))
     }
 }
 
