@@ -1,7 +1,8 @@
 # rdaylight: Radiance-compatible daylight tools for existing rooms.
 #
 #   make          the main job on the bundled example room and real London weather file
-#   make test     installs what the tests need (real Radiance via pyradiance) and runs all tests
+#   make test     installs what the tests need (real Radiance via pyradiance, a single-host
+#                 Slurm) and runs all tests
 #
 # Makefiles are how our users chain Radiance tools; this one is also a worked example.
 
@@ -81,10 +82,17 @@ radiance-example: radiance
 	  | awk '{d=($$1-$$2)/$$2; if(d<0)d=-d; print d*100}' | sort -g \
 	  | awk '{a[NR]=$$1} END {printf "per-sensor TAI |ours-Radiance|/Radiance: median %.2f %%, p95 %.2f %%, max %.2f %% (%d sensors)\n", a[int((NR+1)/2)], a[int(NR*0.95)], a[NR], NR}'
 
-# Installs real Radiance (pyradiance) when missing, then runs every test: unit, format
-# round trips, malformed input, and live interop with the real Radiance binaries.
+# Installs real Radiance (pyradiance) when missing, starts a single-host Slurm for
+# tests/slurm.rs (examples/slurm/start.sh: installs slurm-wlm and munge with apt-get when
+# missing, as root or through sudo; leaves the daemons running, `make slurm-stop` stops
+# them), then runs every test: unit, format round trips, malformed input, live interop
+# with the real Radiance binaries, and the Slurm job array, merge and resume. When Slurm
+# cannot start, the Slurm test fails with start.sh's reason; RDAYLIGHT_SKIP_SLURM=1 skips
+# it deliberately.
 test: radiance
-	$(CARGO) test --workspace
+	@if [ -z "$$RDAYLIGHT_SKIP_SLURM" ]; then bash examples/slurm/start.sh || \
+	    echo "make test: Slurm did not start; tests/slurm.rs will fail saying why"; fi
+	RDAYLIGHT_SLURM=1 $(CARGO) test --workspace
 
 radiance:
 	@$(PYTHON) -c "import pyradiance" 2>/dev/null || $(PYTHON) -m pip install --quiet "$(PYRADIANCE)"
