@@ -56,7 +56,7 @@ pub use rdaylight_recon as recon;
 
 /// Radiance's file formats (`rdaylight-formats`).
 pub mod formats {
-    pub use rdaylight_formats::{header, matrix, picture, sensors, shard, view, weather};
+    pub use rdaylight_formats::{header, hours, matrix, picture, sensors, shard, view, weather};
 }
 
 /// Spectral uplifting: the method (`rdaylight_physics::uplift`) and reflectances recovered

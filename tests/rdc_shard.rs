@@ -209,11 +209,93 @@ fn merge_refuses_shards_that_do_not_belong_together() {
     let bytes = std::fs::read(&mtx[1]).unwrap();
     std::fs::write(&cut, &bytes[..bytes.len() - 4]).unwrap();
     let cut = cut.to_string_lossy().into_owned();
-    let out = cat(&[mtx[0].clone(), cut, mtx[2].clone()], &[]);
-    assert_eq!(
-        out.status.code(),
-        Some(1),
-        "a truncated shard must be refused"
+    let e = refused(&[mtx[0].clone(), cut, mtx[2].clone()], &[]);
+    assert!(e.contains("cut.mtx"), "a truncated shard is named: {e}");
+}
+
+/// What a resume relies on: `rmtx --verify` tells complete shards from missing, cut and
+/// altered ones (one line each, status 1 naming the bad ones), and the merge with
+/// manifests stops naming a missing shard or one whose bytes differ from what its job
+/// wrote (same size: only the manifest's output hash can tell).
+#[test]
+fn verify_and_merge_name_missing_cut_and_altered_shards() {
+    let pts = sensors();
+    let dir = tmpdir();
+    let args = ["-I", "-faf", "-m", "1"];
+    let (mtx, man) = shards(dir.path(), 4, &args, &pts);
+    let verify = |files: &[String]| {
+        run(
+            ours("rmtx")
+                .arg("--verify")
+                .args(files)
+                .arg("--manifests")
+                .args(&man),
+            b"",
+        )
+    };
+    let ok = verify(&mtx);
+    assert!(
+        ok.status.success(),
+        "{}",
+        String::from_utf8_lossy(&ok.stderr)
+    );
+    let lines = String::from_utf8(ok.stdout).unwrap();
+    assert_eq!(lines.matches(": complete (shard ").count(), 4, "{lines}");
+    // Shard 1 gone, shard 2 cut short, shard 3 with one bit flipped.
+    std::fs::remove_file(&mtx[1]).unwrap();
+    let bytes = std::fs::read(&mtx[2]).unwrap();
+    std::fs::write(&mtx[2], &bytes[..bytes.len() - 8]).unwrap();
+    let mut flipped = std::fs::read(&mtx[3]).unwrap();
+    let n = flipped.len();
+    flipped[n - 3] ^= 0x10;
+    std::fs::write(&mtx[3], &flipped).unwrap();
+    let bad = verify(&mtx);
+    assert_eq!(bad.status.code(), Some(1));
+    let lines = String::from_utf8(bad.stdout).unwrap();
+    let per: Vec<&str> = lines.lines().collect();
+    assert_eq!(per.len(), 4, "{lines}");
+    assert!(
+        per[0].ends_with("(shard 0/4, rows 0..2 of 7)"),
+        "{}",
+        per[0]
+    );
+    assert!(per[1].contains("No such file"), "{}", per[1]);
+    assert!(
+        per[2].contains("truncated") || per[2].contains("ends"),
+        "{}",
+        per[2]
+    );
+    assert!(
+        per[3].contains("a corrupt or stale shard; run shard 3/4 again"),
+        "{}",
+        per[3]
+    );
+    let e = String::from_utf8(bad.stderr).unwrap();
+    assert!(
+        e.contains("3 of 4 shards missing, incomplete or corrupt")
+            && e.contains(&mtx[1])
+            && e.contains(&mtx[3]),
+        "{e}"
+    );
+    let e = refused(&mtx, &man);
+    assert!(e.contains(&mtx[1]), "the missing shard is named: {e}");
+    let e = refused(&[mtx[0].clone(), mtx[1].clone(), mtx[3].clone()], &[]);
+    assert!(e.contains(&mtx[1]), "{e}");
+    // Shards 0..2 as written, shard 3 altered: only its manifest's hash tells.
+    let again = dir.path().join("again");
+    std::fs::create_dir(&again).unwrap();
+    let (good, _) = shards(&again, 4, &args, &pts);
+    let files = [
+        good[0].clone(),
+        good[1].clone(),
+        good[2].clone(),
+        mtx[3].clone(),
+    ];
+    assert!(cat(&files, &[]).status.success(), "the header cannot tell");
+    let e = refused(&files, &man);
+    assert!(
+        e.contains(&mtx[3]) && e.contains("corrupt"),
+        "the altered shard is named: {e}"
     );
 }
 

@@ -16,29 +16,26 @@ RDC_OPTS=${RDC_OPTS:--ab 5 -ad 10000 -lw 1e-5 -s 1}
 TIMEOUT=${TIMEOUT:-1800}
 export N OUT BIN ROOM SENSORS RDC_OPTS
 # One date for every header: shards, merge and the single run then match byte for byte.
+# Kept in $OUT/epoch so that resume.sh gives the shards it reruns the same dates.
 export SOURCE_DATE_EPOCH=${SOURCE_DATE_EPOCH:-$(date +%s)}
 HERE=$(dirname "$0")
+# shellcheck source=examples/slurm/jobs.sh
+source "$HERE/jobs.sh"
 bash "$HERE/start.sh"
 export SLURM_CONF=${SLURM_HOME:-/tmp/rdaylight-slurm}/slurm.conf
 mkdir -p "$OUT"
-rm -f "$OUT"/dc.*.mtx "$OUT"/dc.*.json "$OUT/dc.mtx"
+rm -f "$OUT"/dc.*.mtx "$OUT"/dc.*.json "$OUT"/dc.*.part "$OUT/dc.mtx" "$OUT/dc.single.mtx"
+echo "$SOURCE_DATE_EPOCH" > "$OUT/epoch"
 array=$(sbatch --parsable --array=0-$((N - 1)) --chdir="$PWD" --output="$OUT/%x.%A_%a.log" \
     --export=ALL "$HERE/coefficients.sbatch")
 merge=$(sbatch --parsable --dependency=afterok:"$array" --kill-on-invalid-dep=yes \
     --chdir="$PWD" --output="$OUT/%x.%j.log" --export=ALL "$HERE/merge.sbatch")
 echo "slurm: coefficients array job $array (N=$N shards), merge job $merge"
 start=$(date +%s)
-while [ -n "$(squeue -h -j "$array,$merge" 2>/dev/null)" ]; do
-    if (($(date +%s) - start > TIMEOUT)); then
-        echo "slurm: jobs not done after $TIMEOUT s; cancelling" >&2
-        scancel "$array" "$merge" || true
-        exit 1
-    fi
-    sleep 2
-done
-state=$(scontrol show job "$merge" | grep -o 'JobState=[A-Z_]*' | head -n 1)
+wait_jobs "$TIMEOUT" "$array" "$merge"
+state=$(job_state "$merge")
 echo "slurm: merge job $merge $state after $(($(date +%s) - start)) s"
-if [ "$state" != "JobState=COMPLETED" ]; then
+if [ "$state" != COMPLETED ]; then
     tail -n 5 "$OUT"/*.log >&2 || true
     exit 1
 fi

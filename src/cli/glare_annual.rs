@@ -5,6 +5,8 @@
 //!        [--rays 64] [-b 2000] [-l 0.4] [-C l+] [-P 0|1] [--ev rays|sensor] [--eye-ad 16384]
 //!        [--occupied 8-18] [--weekdays [--jan1 DAY]] [--schedule flags.txt]
 //!        [-o dgp.txt] [rdc options: -ab 3 -ad 512 -lw 1e-3 -m 1 -s seed -n threads] scene.rad ...
+//!        [--views views.txt [--shard K/N [--manifest m.json]]]
+//! rglare annual --cat shard.0.txt shard.1.txt ... [--manifests m.0.json ...] [-o dgp.txt]
 //! ```
 //!
 //! Everything not listed goes to `rdc` (its letters and meanings); the view options are
@@ -12,9 +14,22 @@
 //! threshold, view, occupancy and the summary (glare autonomy, shares above 0.35/0.40/0.45,
 //! EN 17037 class), then one line per weather step in file order:
 //! `month day hour DGP Ev Ev_sun nsources sun_in_view DGP_dcglare`.
+//!
+//! Many views: `--views FILE` holds one view per line (rpict view options, e.g. `-vp 3 1.5
+//! 1.2 -vd 0 -1 0`, or a `VIEW=`/`rvu`/`rpict` line; blank and `#` lines skipped), each
+//! applied on top of the command line's view options (so the shared `-vta -vh 180 -vv 180
+//! -vu 0 0 1` are given once). The output is one section per view, in file order, each
+//! opened by `# view I of M (0-based; FILE line L)` and then the single-view report. Each
+//! view is traced with the same seed on its own, so its section does not depend on the
+//! other views: `--shard K/N` computes views `Shard::rows` (0-based K, the split of
+//! `rdc --shard`) and writes them framed as a text shard (`# SHARD=`, `# COMMAND=`, the
+//! sections, `# END=` with their size and FNV-1a hash; `formats::shard::text_preamble`);
+//! `rglare annual --cat` of all N shards checks them and writes the sections one after the
+//! other: the unsharded run's bytes. `--manifest` as for `rdc --shard` (rows = views).
 
-use crate::error::{Error, Result};
-use crate::formats::view::View;
+use crate::error::{Error, Location, Result};
+use crate::formats::shard::{HashingWriter, InputSum, Manifest, Shard, ShardInfo};
+use crate::formats::view::{View, is_view_line};
 use crate::formats::weather::Weather;
 use crate::glare::annual::{self, AnnualOptions, Summary};
 use crate::glare::viewrays::ViewRays;
@@ -23,7 +38,7 @@ use clap::Parser;
 use rdaylight_metrics::schedule::{ScheduleSpec, parse_range};
 use std::io::Write;
 
-const USAGE: &str = "usage: rglare annual -w weather.epw|.wea [view options] [--rays N] [-b thres] [-l limit] [-C l+] [-P 0|1] [--ev rays|sensor] [--eye-ad N] [--occupied A-B] [--weekdays [--jan1 DAY]] [--schedule FILE] [-o out.txt] [rdc options] scene.rad ...";
+const USAGE: &str = "usage: rglare annual -w weather.epw|.wea [view options] [--views FILE [--shard K/N [--manifest FILE]]] [--rays N] [-b thres] [-l limit] [-C l+] [-P 0|1] [--ev rays|sensor] [--eye-ad N] [--occupied A-B] [--weekdays [--jan1 DAY]] [--schedule FILE] [-o out.txt] [rdc options] scene.rad ...; or rglare annual --cat shard.txt ... [--manifests m.json ...] [-o out.txt]";
 
 /// Parsed `rglare annual` command line.
 #[derive(Debug, Clone)]
@@ -36,6 +51,18 @@ pub struct AnnualArgs {
     pub schedule: ScheduleSpec,
     pub out: Option<String>,
     pub rdc: super::rdc::Options,
+    /// `--views FILE`: one view per line on top of `view`.
+    pub views: Option<String>,
+    /// `--shard K/N`: only these views, framed as a text shard.
+    pub shard: Option<Shard>,
+    /// `--manifest FILE` (with `--shard`).
+    pub manifest: Option<String>,
+    /// `rglare annual` and the arguments without `--shard`, `--manifest` and `-o` (where
+    /// a piece goes, not what it is): the unsharded run's command, for the shard frame and
+    /// the manifest.
+    pub command: Vec<String>,
+    /// Files named by `-vf` on the command line (hashed into manifests).
+    pub view_files: Vec<String>,
 }
 
 fn value<'a>(args: &'a [String], i: usize, opt: &str) -> Result<&'a str> {
@@ -85,6 +112,9 @@ impl AnnualArgs {
             ..ScheduleSpec::default()
         };
         let mut out = None;
+        let mut views = None;
+        let mut shard = None;
+        let mut manifest = None;
         let mut pass = vec!["rdc".to_string()];
         let mut i = 0;
         while i < rest.len() {
@@ -164,6 +194,18 @@ impl AnnualArgs {
                     i += 1;
                     out = Some(value(&rest, i, a)?.to_string());
                 }
+                "--views" => {
+                    i += 1;
+                    views = Some(value(&rest, i, a)?.to_string());
+                }
+                "--shard" => {
+                    i += 1;
+                    shard = Some(Shard::parse(value(&rest, i, a)?, a)?);
+                }
+                "--manifest" => {
+                    i += 1;
+                    manifest = Some(value(&rest, i, a)?.to_string());
+                }
                 "--sun-angle" => {
                     i += 1;
                     opts.sun_angle = number(&rest, i, a)?;
@@ -181,10 +223,15 @@ impl AnnualArgs {
         }
         let weather =
             weather.ok_or_else(|| Error::Usage(format!("no weather file (-w FILE); {USAGE}")))?;
-        if rest.len() == raw.len() {
+        if rest.len() == raw.len() && views.is_none() {
             return Err(Error::Usage(format!(
-                "no view: give -vf FILE or -vta -vp x y z -vd dx dy dz -vu ux uy uz -vh 180 -vv 180; {USAGE}"
+                "no view: give -vf FILE or -vta -vp x y z -vd dx dy dz -vu ux uy uz -vh 180 -vv 180, or --views FILE; {USAGE}"
             )));
+        }
+        if manifest.is_some() && shard.is_none() {
+            return Err(Error::Usage(
+                "--manifest describes a shard: it needs --shard K/N (0/1 for a whole run)".into(),
+            ));
         }
         let rdc_args: Vec<String> = std::iter::once("rdc".to_string())
             .chain(super::rdc::radiance_args(&pass[1..]))
@@ -196,6 +243,18 @@ impl AnnualArgs {
             return Err(Error::Usage(format!("no scene files; {USAGE}")));
         }
         schedule.weather = Some(weather.clone());
+        let command = ["rglare".to_string(), "annual".to_string()]
+            .into_iter()
+            .chain(super::without_options(
+                raw,
+                &["--shard", "--manifest", "-o"],
+            ))
+            .collect();
+        let view_files = raw
+            .windows(2)
+            .filter(|w| w[0] == "-vf")
+            .map(|w| w[1].clone())
+            .collect();
         Ok(AnnualArgs {
             view,
             weather,
@@ -205,6 +264,11 @@ impl AnnualArgs {
             schedule,
             out,
             rdc,
+            views,
+            shard,
+            manifest,
+            command,
+            view_files,
         })
     }
 }
@@ -302,6 +366,108 @@ pub fn report(
     s
 }
 
+/// One view of the run: the view, and its `--views` line (file line number) if any.
+struct ViewItem {
+    view: View,
+    line: Option<usize>,
+}
+
+impl AnnualArgs {
+    /// The views in order: the command line's, or one per line of `--views` on top of it.
+    fn view_items(&self) -> Result<Vec<ViewItem>> {
+        let Some(path) = &self.views else {
+            return Ok(vec![ViewItem {
+                view: self.view,
+                line: None,
+            }]);
+        };
+        let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+        let mut items = Vec::new();
+        for (k, line) in text.lines().enumerate() {
+            let line = line.trim();
+            if line.is_empty() || line.starts_with('#') {
+                continue;
+            }
+            let loc = Location::line(path, k + 1);
+            let mut view = self.view;
+            let applied = if is_view_line(line) {
+                view.apply_line(line, &loc)?
+            } else {
+                view.apply_value(line, &loc)?
+            };
+            if applied == 0 {
+                return Err(Error::parse(
+                    loc,
+                    "no view options on this line: expected e.g. -vp x y z -vd dx dy dz",
+                ));
+            }
+            items.push(ViewItem {
+                view,
+                line: Some(k + 1),
+            });
+        }
+        if items.is_empty() {
+            return Err(Error::parse(
+                Location::file(path),
+                "no views: expected one line of view options per view",
+            ));
+        }
+        Ok(items)
+    }
+
+    /// Every file the run reads, hashed for a shard's manifest.
+    fn input_sums(&self) -> Result<Vec<InputSum>> {
+        let mut files: Vec<&String> = self.rdc.scene.iter().collect();
+        files.push(&self.weather);
+        files.extend(&self.views);
+        files.extend(&self.view_files);
+        files.extend(&self.schedule.flags);
+        files.iter().map(|f| InputSum::of_scene_input(f)).collect()
+    }
+}
+
+/// `rglare annual --cat shard... [--manifests m...] [-o out]`: the unsharded output.
+fn merge(raw: &[String]) -> Result<()> {
+    let (mut shards, mut manifests, mut out) = (Vec::new(), Vec::new(), None);
+    let mut in_manifests = false;
+    let mut i = 0;
+    while i < raw.len() {
+        match raw[i].as_str() {
+            "--manifests" => in_manifests = true,
+            "-o" => {
+                i += 1;
+                out = Some(value(raw, i, "-o")?.to_string());
+            }
+            a if a.starts_with('-') && a.len() > 1 => {
+                return Err(Error::Usage(format!(
+                    "rglare annual --cat: unknown option {a}; usage: rglare annual --cat \
+                     shard.txt ... [--manifests m.json ...] [-o out.txt]"
+                )));
+            }
+            a if in_manifests => manifests.push(a.to_string()),
+            a => shards.push(a.to_string()),
+        }
+        i += 1;
+    }
+    let write = |w: &mut dyn Write| {
+        crate::formats::shard::merge_text_shards(&shards, &manifests, "views", w)
+    };
+    write_output(out.as_deref(), write)
+}
+
+/// Write to file `out` atomically, or to standard output.
+fn write_output(out: Option<&str>, f: impl FnOnce(&mut dyn Write) -> Result<()>) -> Result<()> {
+    match out {
+        Some(p) if p != "-" => crate::io::write_atomically(std::path::Path::new(p), f),
+        _ => {
+            let stdout = std::io::stdout();
+            let mut o = std::io::BufWriter::new(stdout.lock());
+            f(&mut o)?;
+            o.flush().map_err(|e| Error::io("<stdout>", e))
+        }
+    }
+}
+
 /// Run `rglare annual` with the arguments after `annual`.
 pub fn run(raw: &[String]) -> Result<()> {
     if raw.iter().any(|a| a == "--version") {
@@ -315,15 +481,26 @@ pub fn run(raw: &[String]) -> Result<()> {
              (-ab -ad -lw -m MF -s seed -n threads) set the sampling. Output: '#' lines (method, \
              threshold, view, occupancy, glare autonomy, shares above 0.35/0.40/0.45, EN 17037 \
              class), then per step: month day hour DGP Ev Ev_sun nsources sun_in_view DGP_dcglare.\n\n\
+             Many views: --views FILE, one line of view options per view on top of the command \
+             line's (e.g. -vp 3 1.5 1.2 -vd 0 -1 0); one section per view. --shard K/N computes \
+             the K-th (0-based) of N blocks of views as a checked text shard, --manifest FILE \
+             describes it; rglare annual --cat of all N shards (with --manifests) equals the \
+             unsharded output byte for byte:\n  \
+             for k in 0 1 2; do rglare annual --views v.txt --shard $k/3 -o g.$k.txt [options] scene.rad; done\n  \
+             rglare annual --cat g.0.txt g.1.txt g.2.txt -o glare.txt\n\n\
              --no-exec  refuse inline `!commands` in scene files (error instead). By default they \
              run, as in Radiance; also RDAYLIGHT_NO_EXEC=1."
         );
         return Ok(());
     }
+    if raw.first().map(String::as_str) == Some("--cat") {
+        return merge(&raw[1..]);
+    }
     let args = AnnualArgs::parse(raw)?;
     let weather = Weather::read_path(&args.weather)?;
     let sched = args.schedule.build(weather.steps.len(), &args.weather)?;
-    let rays = ViewRays::new(&args.view, args.grid)?;
+    let items = args.view_items()?;
+    let shown = args.shard.map_or(0..items.len(), |s| s.rows(items.len()));
     let show = crate::io::show_progress();
     let progress = |what: &str| {
         if show {
@@ -334,21 +511,65 @@ pub fn run(raw: &[String]) -> Result<()> {
     let mut load = crate::scene::LoadOptions::from_env();
     load.allow_exec &= !args.rdc.no_exec;
     let scene = crate::scene::load(&args.rdc.scene, &load)?;
-    let c = annual::coefficients(&base, &scene, &rays, &args.weather, args.eye_ad, &progress)?;
-    progress("time steps");
-    let results = annual::evaluate(&c, &rays, &weather, &args.opts)?;
-    let summary = annual::summary(&results, &sched.occupied, args.opts.limit);
-    let text = report(&args, &rays, &weather, &results, &summary, &sched.rule);
-    match args.out.as_deref() {
-        Some(p) if p != "-" => crate::io::write_atomically(std::path::Path::new(p), |w| {
-            w.write_all(text.as_bytes()).map_err(|e| Error::io(p, e))
-        }),
-        _ => {
-            let stdout = std::io::stdout();
-            let mut o = stdout.lock();
-            o.write_all(text.as_bytes())
-                .and_then(|_| o.flush())
-                .map_err(|e| Error::io("<stdout>", e))
+    // One view's section; the same bytes whichever other views the run computes.
+    let section = |i: usize| -> Result<String> {
+        let item = &items[i];
+        let rays = ViewRays::new(&item.view, args.grid)?;
+        let c = annual::coefficients(&base, &scene, &rays, &args.weather, args.eye_ad, &progress)?;
+        progress("time steps");
+        let results = annual::evaluate(&c, &rays, &weather, &args.opts)?;
+        let summary = annual::summary(&results, &sched.occupied, args.opts.limit);
+        let mut text = match (&args.views, item.line) {
+            (Some(f), Some(l)) => {
+                format!("# view {i} of {} (0-based; {f} line {l})\n", items.len())
+            }
+            _ => String::new(),
+        };
+        text += &report(&args, &rays, &weather, &results, &summary, &sched.rule);
+        Ok(text)
+    };
+    let body = |w: &mut dyn Write| -> Result<()> {
+        for i in shown.clone() {
+            let text = section(i)?;
+            w.write_all(text.as_bytes())
+                .map_err(|e| Error::io(args.out.as_deref().unwrap_or("<stdout>"), e))?;
         }
+        Ok(())
+    };
+    let name = args.out.clone().unwrap_or_else(|| "<stdout>".into());
+    write_output(args.out.as_deref(), |w| match args.shard {
+        None => body(w),
+        Some(shard) => {
+            let info = ShardInfo {
+                shard,
+                first: shown.start,
+                total: items.len(),
+            };
+            let head = crate::formats::shard::text_preamble(&info, &args.command);
+            w.write_all(head.as_bytes())
+                .map_err(|e| Error::io(&name, e))?;
+            let mut hw = HashingWriter::new(&mut *w);
+            body(&mut hw)?;
+            let tail = hw.trailer();
+            w.write_all(tail.as_bytes())
+                .map_err(|e| Error::io(&name, e))
+        }
+    })?;
+    if let (Some(path), Some(shard)) = (&args.manifest, args.shard) {
+        Manifest {
+            tool: "rglare annual".into(),
+            version: env!("CARGO_PKG_VERSION").into(),
+            command: args.command.clone(),
+            shard,
+            seed: base.seed,
+            first_row: shown.start,
+            rows: shown.len(),
+            total_rows: items.len(),
+            inputs: args.input_sums()?,
+            // The text shard's own `# END=` line checks its body.
+            output: None,
+        }
+        .write(path)?;
     }
+    Ok(())
 }

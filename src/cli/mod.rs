@@ -66,6 +66,32 @@ pub fn finite(s: &str) -> Result<f64, String> {
     }
 }
 
+/// `command` without the options `names` and their values (either spelling: `--x v` or
+/// `--x=v`), up to a `--`. Options that only say which piece of a run this is (`--shard`,
+/// `--hours`, `--manifest`) are left out of headers, so every piece names the whole run's
+/// command and the merge restores its header line for line.
+pub fn without_options(command: &[String], names: &[&str]) -> Vec<String> {
+    let mut out = Vec::with_capacity(command.len());
+    let mut skip_next = false;
+    for (i, a) in command.iter().enumerate() {
+        if skip_next {
+            skip_next = false;
+            continue;
+        }
+        if a == "--" {
+            out.extend(command[i..].iter().cloned());
+            break;
+        }
+        let inline = a.split_once('=').is_some_and(|(n, _)| names.contains(&n));
+        if names.contains(&a.as_str()) {
+            skip_next = true;
+        } else if !inline {
+            out.push(a.clone());
+        }
+    }
+    out
+}
+
 /// Parse `args` (program name first) with clap: `--help`/`--version` print and exit 0; an
 /// error becomes one line (what clap says first) and status 1 like every other error (clap
 /// alone would print a block and exit 2).

@@ -353,24 +353,7 @@ pub fn radiance_args<S: AsRef<str>>(args: &[S]) -> Vec<String> {
 /// or `--x=v`): they say where a piece of the run goes, not what it computes, so every
 /// shard's header names the unsharded run's command (`rdaylight::formats::shard`).
 pub fn without_shard_options(command: &[String]) -> Vec<String> {
-    let mut out = Vec::with_capacity(command.len());
-    let mut skip_next = false;
-    for (i, a) in command.iter().enumerate() {
-        if skip_next {
-            skip_next = false;
-            continue;
-        }
-        if a == "--" {
-            out.extend(command[i..].iter().cloned());
-            break;
-        }
-        match a.as_str() {
-            "--shard" | "--manifest" => skip_next = true,
-            _ if a.starts_with("--shard=") || a.starts_with("--manifest=") => {}
-            _ => out.push(a.clone()),
-        }
-    }
-    out
+    super::without_options(command, &["--shard", "--manifest"])
 }
 
 impl Options {

@@ -323,25 +323,10 @@ fn write_plots(r: &Results, records: &[DrawRecord], dir: &str) -> Result<()> {
     Ok(())
 }
 
+/// The manifest's command: the arguments without --shard/--records and their values.
 fn command_line() -> Vec<String> {
-    // The manifest's command: the arguments without --shard/--records and their values.
-    let mut out = Vec::new();
-    let mut skip = false;
-    for a in std::env::args() {
-        if skip {
-            skip = false;
-            continue;
-        }
-        if a == "--shard" || a == "--records" {
-            skip = true;
-            continue;
-        }
-        if a.starts_with("--shard=") || a.starts_with("--records=") {
-            continue;
-        }
-        out.push(a);
-    }
-    out
+    let args: Vec<String> = std::env::args().collect();
+    super::without_options(&args, &["--shard", "--records"])
 }
 
 /// Run `rmcop` with parsed options, writing the cell table to `out`.
@@ -402,6 +387,8 @@ pub fn run(opts: &Options, out: &mut dyn Write) -> Result<()> {
                         rows: rows.len(),
                         total_rows: cfg.draws,
                         inputs: inputs.sums()?,
+                        // The records are in this very file.
+                        output: None,
                     },
                     records: recs.clone(),
                 };

@@ -6,6 +6,7 @@
 //! ([`Options::parse_from`] gives the file names clap took for them back to the inputs).
 
 use crate::error::{Error, Result};
+use crate::formats::hours::HourSpan;
 use crate::formats::matrix::{DataFormat, Pipeline, ReadOptions};
 use clap::{CommandFactory, FromArgMatches, Parser};
 
@@ -22,7 +23,16 @@ Examples:
     rmtx --cat part1.mtx part2.mtx > dc.mtx
   Merge the shards of rdc --shard K/3 (checked: one run, all shards, in order; the result
   has the unsharded run's bytes), with their manifests (checked: same inputs and version):
-    rmtx --cat dc.0.mtx dc.1.mtx dc.2.mtx --manifests m0.json m1.json m2.json > dc.mtx";
+    rmtx --cat dc.0.mtx dc.1.mtx dc.2.mtx --manifests m0.json m1.json m2.json > dc.mtx
+  An annual product in time chunks (hours 0-based, A included, B not), merged back into
+  the whole product's bytes:
+    rmtx -ff -c 47.4 119.9 11.6 --hours 0:4380 dc.mtx sky.smx > ill.0.mtx
+    rmtx -ff -c 47.4 119.9 11.6 --hours 4380:8760 dc.mtx sky.smx > ill.1.mtx
+    rmtx --cat-columns ill.0.mtx ill.1.mtx > ill.mtx
+  The same as array task K of N (the K-th of N blocks of hours), with manifests:
+    rmtx -ff dc.mtx sky.smx --hours $K/$N --manifest ill.$K.json > ill.$K.mtx
+  Which rdc shards are complete (one line each; status 1 names the others):
+    rmtx --verify dc.0.mtx dc.1.mtx dc.2.mtx --manifests m0.json m1.json m2.json";
 
 /// Radiance matrix operations (rmtxop/dctimestep counterpart).
 ///
@@ -71,11 +81,41 @@ pub struct Options {
     #[arg(long = "cat")]
     pub cat: bool,
 
-    /// With --cat of rdc shards: their manifests (rdc --manifest), one per shard in the
-    /// same order; refuses shards of different inputs, versions or seeds and names missing
-    /// shard indices. Takes every following word: put it last.
+    /// Join column blocks of inputs with equal NROWS and NCOMP side by side instead of
+    /// multiplying. Outputs of rmtx --hours (a HOURS= header line) are checked to be the
+    /// chunks of one product whose hours follow each other from 0 to its NCOLS, in order,
+    /// and merged verbatim under the whole product's header.
+    #[arg(long = "cat-columns")]
+    pub cat_columns: bool,
+
+    /// With --cat of rdc shards or --cat-columns of hour chunks: their manifests (rdc
+    /// --manifest, rmtx --manifest), one per piece in the same order; refuses pieces of
+    /// different inputs, versions or seeds and names missing shard indices. Takes every
+    /// following word: put it last.
     #[arg(long = "manifests", num_args = 1.., value_name = "JSON")]
     pub manifests: Vec<String>,
+
+    /// Only hours A:B of the result: columns A to B of the right-most matrix (the sky's
+    /// time steps), 0-based, A included and B not (0:730 is the first 730 hours; chunks
+    /// 0:730 and 730:1460 follow each other), 0 <= A < B <= NCOLS. K/N: the K-th (0-based)
+    /// of N blocks, NCOLS/N hours each, the first NCOLS%N one more. The header gets
+    /// HOURS= A:B TOTAL; rmtx --cat-columns of all chunks equals the whole product byte for
+    /// byte. Only the chunk's columns of the sky are held in memory.
+    #[arg(long = "hours", value_name = "A:B|K/N")]
+    pub hours: Option<String>,
+
+    /// Check rdc shard files, each against its own manifest (--manifests, same order): its
+    /// SHARD= line and rows, the data's size and the FNV-1a hash of the bytes the job
+    /// wrote. Prints one line per shard (complete, or what is wrong) and fails naming
+    /// those that are missing, incomplete or corrupt; merges nothing. What
+    /// examples/slurm/resume.sh runs to decide which array tasks to submit again.
+    #[arg(long = "verify")]
+    pub verify: bool,
+
+    /// With --hours: write the chunk's manifest (JSON: version, command, hours, each input
+    /// file's size and FNV-1a 64 hash) once the output is complete.
+    #[arg(long = "manifest", value_name = "FILE")]
+    pub manifest: Option<String>,
 
     /// Format a|f|d of inputs without a header (dctimestep -i; rcontrib/rtrace/gendaymtx -h).
     #[arg(short = 'i', value_name = "a|f|d")]
@@ -148,15 +188,23 @@ impl Options {
         Ok(Pipeline {
             inputs: self.inputs.clone(),
             stack: self.cat,
+            columns: self.cat_columns,
             read,
             coefs: self.coefs.clone(),
             scale: self.scale.iter().filter_map(|s| s.parse().ok()).collect(),
             format: format_opt(&self.format, "-f")?,
             transpose: self.transpose,
             header: !self.no_header,
-            command,
+            command: super::without_options(&command, &["--hours", "--manifest"]),
             seekable: crate::io::stdout_is_file(),
             manifests: self.manifests.clone(),
+            hours: self
+                .hours
+                .as_deref()
+                .map(|h| HourSpan::parse(h, "--hours"))
+                .transpose()?,
+            manifest: self.manifest.clone(),
+            verify: self.verify,
         })
     }
 }

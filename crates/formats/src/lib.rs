@@ -18,6 +18,7 @@
 use rdaylight_base::{colour, error, io, radiometry, vec3};
 
 pub mod header;
+pub mod hours;
 pub mod info;
 pub mod matrix;
 pub mod picture;

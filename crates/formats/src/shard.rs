@@ -32,7 +32,11 @@
 //! `!command` by its text, the sensors as read from standard input). Only the files named
 //! on the command line are hashed, not files they reference (`.cal`, `specfile`, `!xform`
 //! targets). [`check_manifests`] refuses shards of different inputs, versions, seeds or
-//! commands and names the missing shard indices.
+//! commands and names the missing shard indices. The manifest also records the shard's
+//! output as written (`output`: size and FNV-1a hash of the bytes on standard output), so
+//! `rmtx --verify` and the merge ([`Manifest::check_output`]) tell a complete shard from a
+//! missing, truncated, altered or stale one and name it: what a resume of a failed job
+//! array needs to rerun only those (`examples/slurm/resume.sh`).
 
 use crate::error::{Error, Result};
 use crate::header::Header;
@@ -177,16 +181,14 @@ pub fn merged_header(shards: &[(String, Header, usize)]) -> Result<Header> {
         }
     }
     let (name0, h0, _) = &shards[0];
-    let first = infos[0];
-    let n = first.shard.count;
+    let pieces: Vec<(&str, ShardInfo, usize)> = shards
+        .iter()
+        .zip(&infos)
+        .map(|((name, _, nrows), i)| (name.as_str(), *i, *nrows))
+        .collect();
+    check_pieces(&pieces, "rows")?;
     let id0 = identity(h0);
-    for ((name, h, _), info) in shards.iter().zip(&infos) {
-        if info.shard.count != n || info.total != first.total {
-            return Err(Error::Mismatch(format!(
-                "{name} is shard {} of {} rows but {name0} is shard {} of {} rows: not one run",
-                info.shard, info.total, first.shard, first.total
-            )));
-        }
+    for (name, h, _) in shards {
         if identity(h) != id0 {
             return Err(Error::Mismatch(format!(
                 "{name} and {name0} come from different runs (their headers differ beyond \
@@ -194,34 +196,76 @@ pub fn merged_header(shards: &[(String, Header, usize)]) -> Result<Header> {
             )));
         }
     }
-    check_indices(
-        shards
-            .iter()
-            .zip(&infos)
-            .map(|((name, _, _), i)| (name.as_str(), i.shard)),
-    )?;
-    let mut next = 0;
-    for ((name, _, nrows), info) in shards.iter().zip(&infos) {
-        let want = info.shard.rows(info.total);
-        if info.first != next || want != (info.first..info.first + nrows) {
-            return Err(Error::Mismatch(format!(
-                "{name}: shard {} holds rows {}..{} but should hold {}..{} of {}",
-                info.shard,
-                info.first,
-                info.first + nrows,
-                want.start,
-                want.end,
-                info.total
-            )));
-        }
-        next += nrows;
-    }
+    let first = infos[0];
     let mut h = h0.clone();
     h.lines.retain(|l| !l.starts_with("SHARD="));
     if let Some(i) = nrows_line(&h) {
         h.lines[i] = format!("NROWS={}", first.total);
     }
     Ok(h)
+}
+
+/// Check that `pieces` (name, its `SHARD=` line, the items it holds) are all N shards of
+/// one run of TOTAL items (`unit`: rows, views), in order, each holding exactly its block.
+pub fn check_pieces(pieces: &[(&str, ShardInfo, usize)], unit: &str) -> Result<()> {
+    let Some(&(name0, first, _)) = pieces.first() else {
+        return Ok(());
+    };
+    for &(name, info, _) in pieces {
+        if info.shard.count != first.shard.count || info.total != first.total {
+            return Err(Error::Mismatch(format!(
+                "{name} is shard {} of {} {unit} but {name0} is shard {} of {} {unit}: not one \
+                 run",
+                info.shard, info.total, first.shard, first.total
+            )));
+        }
+    }
+    check_indices(pieces.iter().map(|&(name, i, _)| (name, i.shard)))?;
+    let mut next = 0;
+    for &(name, info, n) in pieces {
+        let want = info.shard.rows(info.total);
+        if info.first != next || want != (info.first..info.first + n) {
+            return Err(Error::Mismatch(format!(
+                "{name}: shard {} holds {unit} {}..{} but should hold {}..{} of {}",
+                info.shard,
+                info.first,
+                info.first + n,
+                want.start,
+                want.end,
+                info.total
+            )));
+        }
+        next += n;
+    }
+    Ok(())
+}
+
+/// Check that manifests `ms` (path, manifest) describe `pieces` (name, `SHARD=` line,
+/// items), one per piece in the same order, all of one run.
+pub fn check_manifests_for(
+    ms: &[(String, Manifest)],
+    pieces: &[(&str, ShardInfo, usize)],
+) -> Result<()> {
+    check_manifests(ms)?;
+    if ms.len() != pieces.len() {
+        return Err(Error::Mismatch(format!(
+            "{} manifests for {} shards: give one manifest per shard, in the same order",
+            ms.len(),
+            pieces.len()
+        )));
+    }
+    for ((mp, m), &(p, i, n)) in ms.iter().zip(pieces) {
+        if (i.shard, i.first, i.total) != (m.shard, m.first_row, m.total_rows) || m.rows != n {
+            return Err(Error::Mismatch(format!(
+                "{mp} describes shard {} ({}..{} of {}) but {p} is not that shard",
+                m.shard,
+                m.first_row,
+                m.first_row + m.rows,
+                m.total_rows
+            )));
+        }
+    }
+    Ok(())
 }
 
 /// Shards given in order: each of 0..N-1 exactly once, at its position; names the missing
@@ -329,15 +373,33 @@ impl InputSum {
     /// A file by its content; a `!command` by its text (its output is not run twice);
     /// `-` (a scene on standard input) cannot be read twice and gets an empty hash.
     pub fn of_scene_input(name: &str) -> Result<InputSum> {
-        let mut h = Fnv64::default();
-        let bytes = if name.starts_with('!') || name == "-" {
+        if name.starts_with('!') || name == "-" {
+            let mut h = Fnv64::default();
             h.write(name.as_bytes());
-            0
-        } else {
-            let data = std::fs::read(name).map_err(|e| Error::io(name, e))?;
-            h.write(&data);
-            data.len() as u64
-        };
+            return Ok(InputSum {
+                name: name.to_string(),
+                bytes: 0,
+                fnv1a64: h.hex(),
+            });
+        }
+        InputSum::of_file(name)
+    }
+
+    /// A file by its content, read in blocks (coefficient matrices of a campus run are
+    /// hundreds of MB: hashing must not load them whole).
+    pub fn of_file(name: &str) -> Result<InputSum> {
+        use std::io::Read;
+        let mut f = std::fs::File::open(name).map_err(|e| Error::io(name, e))?;
+        let (mut h, mut bytes) = (Fnv64::default(), 0u64);
+        let mut buf = vec![0u8; 1 << 16];
+        loop {
+            let n = f.read(&mut buf).map_err(|e| Error::io(name, e))?;
+            if n == 0 {
+                break;
+            }
+            h.write(&buf[..n]);
+            bytes += n as u64;
+        }
         Ok(InputSum {
             name: name.to_string(),
             bytes,
@@ -360,29 +422,112 @@ pub struct Manifest {
     pub rows: usize,
     pub total_rows: usize,
     pub inputs: Vec<InputSum>,
+    /// The shard's output as written (size and FNV-1a hash), so that a merge or a resume
+    /// can tell a complete shard from a truncated, altered or stale one. Absent in
+    /// manifests of older versions and of text shards (which carry their own `# END=`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub output: Option<InputSum>,
 }
 
 impl Manifest {
+    /// Check that file `path` holds the output this manifest recorded (nothing to check
+    /// when it recorded none).
+    pub fn check_output(&self, path: &str) -> Result<()> {
+        let Some(want) = &self.output else {
+            return Ok(());
+        };
+        let got = InputSum::of_file(path)?;
+        if (got.bytes, &got.fnv1a64) != (want.bytes, &want.fnv1a64) {
+            return Err(Error::Mismatch(format!(
+                "{path}: {} bytes, fnv1a64 {}, but its manifest recorded {} bytes, fnv1a64 \
+                 {}: a corrupt or stale shard; run shard {} again",
+                got.bytes, got.fnv1a64, want.bytes, want.fnv1a64, self.shard
+            )));
+        }
+        Ok(())
+    }
+
     pub fn read(path: &str) -> Result<Manifest> {
-        let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
-        serde_json::from_str(&text).map_err(|e| {
-            Error::parse(
-                crate::error::Location::line(path, e.line()),
-                format!("not an rdc shard manifest: {e}"),
-            )
-        })
+        read_json(path, "an rdc shard manifest")
     }
 
     /// Write atomically (a killed job leaves no half manifest behind).
     pub fn write(&self, path: &str) -> Result<()> {
-        let text =
-            serde_json::to_string_pretty(self).map_err(|e| Error::Usage(format!("{path}: {e}")))?;
-        crate::io::write_atomically(std::path::Path::new(path), |w| {
-            w.write_all(text.as_bytes())
-                .and_then(|_| w.write_all(b"\n"))
-                .map_err(|e| Error::io(path, e))
-        })
+        write_json(path, self)
     }
+
+    fn run_id(&self) -> RunId<'_> {
+        RunId {
+            tool: &self.tool,
+            version: &self.version,
+            command: &self.command,
+            seed: Some(self.seed),
+            inputs: &self.inputs,
+        }
+    }
+}
+
+/// Read a manifest (`what` names the kind in errors).
+pub(crate) fn read_json<T: serde::de::DeserializeOwned>(path: &str, what: &str) -> Result<T> {
+    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    serde_json::from_str(&text).map_err(|e| {
+        Error::parse(
+            crate::error::Location::line(path, e.line()),
+            format!("not {what}: {e}"),
+        )
+    })
+}
+
+/// Write a manifest atomically (a killed job leaves no half manifest behind).
+pub(crate) fn write_json<T: Serialize>(path: &str, value: &T) -> Result<()> {
+    let text =
+        serde_json::to_string_pretty(value).map_err(|e| Error::Usage(format!("{path}: {e}")))?;
+    crate::io::write_atomically(std::path::Path::new(path), |w| {
+        w.write_all(text.as_bytes())
+            .and_then(|_| w.write_all(b"\n"))
+            .map_err(|e| Error::io(path, e))
+    })
+}
+
+/// What makes pieces parts of one run, whatever the piece (rows of `rdc --shard`, views of
+/// `rglare annual --shard`, hours of `rmtx --hours`).
+pub(crate) struct RunId<'a> {
+    pub tool: &'a str,
+    pub version: &'a str,
+    pub command: &'a [String],
+    pub seed: Option<u64>,
+    pub inputs: &'a [InputSum],
+}
+
+/// The error naming what differs between the runs of manifests `p` and `p0`, if anything.
+pub(crate) fn same_run(p: &str, a: RunId, p0: &str, b: RunId) -> Result<()> {
+    let differ = |what: &str, x: &dyn std::fmt::Debug, y: &dyn std::fmt::Debug| {
+        Err(Error::Mismatch(format!(
+            "{p} and {p0} are pieces of different runs: {what} {x:?} vs {y:?}"
+        )))
+    };
+    if (a.tool, a.version) != (b.tool, b.version) {
+        return differ("tool version", &(a.tool, a.version), &(b.tool, b.version));
+    }
+    if a.seed != b.seed {
+        return differ("seed", &a.seed, &b.seed);
+    }
+    if a.command != b.command {
+        return differ("command", &a.command.join(" "), &b.command.join(" "));
+    }
+    for (x, y) in a.inputs.iter().zip(b.inputs) {
+        if x != y {
+            return Err(Error::Mismatch(format!(
+                "{p} and {p0} are pieces of different inputs: {} (fnv1a64 {}, {} bytes) vs \
+                 {} (fnv1a64 {}, {} bytes)",
+                x.name, x.fnv1a64, x.bytes, y.name, y.fnv1a64, y.bytes
+            )));
+        }
+    }
+    if a.inputs.len() != b.inputs.len() {
+        return differ("number of inputs", &a.inputs.len(), &b.inputs.len());
+    }
+    Ok(())
 }
 
 /// Check that `manifests` (path, manifest) describe all N shards of one run (same tool
@@ -393,44 +538,257 @@ pub fn check_manifests(manifests: &[(String, Manifest)]) -> Result<()> {
         return Ok(());
     };
     for (p, m) in &manifests[1..] {
-        let differ = |what: &str, a: &dyn std::fmt::Debug, b: &dyn std::fmt::Debug| {
-            Err(Error::Mismatch(format!(
-                "{p} and {p0} are shards of different runs: {what} {a:?} vs {b:?}"
-            )))
-        };
-        if (&m.tool, &m.version) != (&m0.tool, &m0.version) {
-            return differ(
-                "tool version",
-                &(&m.tool, &m.version),
-                &(&m0.tool, &m0.version),
-            );
-        }
         if m.shard.count != m0.shard.count {
-            return differ("shard count N", &m.shard.count, &m0.shard.count);
-        }
-        if m.seed != m0.seed {
-            return differ("seed", &m.seed, &m0.seed);
-        }
-        if m.command != m0.command {
-            return differ("command", &m.command.join(" "), &m0.command.join(" "));
+            return Err(Error::Mismatch(format!(
+                "{p} and {p0} are shards of different runs: shard count N {} vs {}",
+                m.shard.count, m0.shard.count
+            )));
         }
         if m.total_rows != m0.total_rows {
-            return differ("total rows", &m.total_rows, &m0.total_rows);
+            return Err(Error::Mismatch(format!(
+                "{p} and {p0} are shards of different runs: total rows {} vs {}",
+                m.total_rows, m0.total_rows
+            )));
         }
-        for (a, b) in m.inputs.iter().zip(&m0.inputs) {
-            if a != b {
-                return Err(Error::Mismatch(format!(
-                    "{p} and {p0} are shards of different inputs: {} (fnv1a64 {}, {} bytes) vs \
-                     {} (fnv1a64 {}, {} bytes)",
-                    a.name, a.fnv1a64, a.bytes, b.name, b.fnv1a64, b.bytes
-                )));
-            }
-        }
-        if m.inputs.len() != m0.inputs.len() {
-            return differ("number of inputs", &m.inputs.len(), &m0.inputs.len());
-        }
+        same_run(p, m.run_id(), p0, m0.run_id())?;
     }
     check_indices(manifests.iter().map(|(p, m)| (p.as_str(), m.shard)))
+}
+
+/// First line of a text shard: `# SHARD= K/N FIRST TOTAL`.
+const TEXT_SHARD: &str = "# SHARD=";
+/// Second line: `# COMMAND= ...`, the unsharded run's command line.
+const TEXT_COMMAND: &str = "# COMMAND=";
+/// Last line: `# END= BYTES FNV1A64` of the body.
+const TEXT_END: &str = "# END=";
+
+/// The two lines that open a text shard (module docs of the tool that writes one, e.g.
+/// `rglare annual --shard`): where the piece goes and which run it belongs to.
+///
+/// A text shard is a report that is not a matrix, framed so that its merge can check it:
+///
+/// ```text
+/// # SHARD= K/N FIRST TOTAL     (FIRST: its first item, TOTAL: the whole run's items)
+/// # COMMAND= <the unsharded command line>
+/// <body: the whole run's output for items FIRST.., verbatim>
+/// # END= BYTES FNV1A64         (the body's size and hash: a killed or damaged job shows)
+/// ```
+///
+/// [`merge_text_shards`] writes the bodies one after the other: the unsharded output.
+pub fn text_preamble(info: &ShardInfo, command: &[String]) -> String {
+    format!(
+        "{TEXT_SHARD} {} {} {}\n{TEXT_COMMAND} {}\n",
+        info.shard,
+        info.first,
+        info.total,
+        command.join(" ")
+    )
+}
+
+/// Counts and hashes what passes through it (a text shard's body); [`trailer`] is the
+/// closing `# END=` line.
+///
+/// [`trailer`]: HashingWriter::trailer
+pub struct HashingWriter<W> {
+    inner: W,
+    hash: Fnv64,
+    bytes: u64,
+}
+
+impl<W: std::io::Write> HashingWriter<W> {
+    pub fn new(inner: W) -> Self {
+        HashingWriter {
+            inner,
+            hash: Fnv64::default(),
+            bytes: 0,
+        }
+    }
+
+    /// The `# END=` line for what was written so far.
+    pub fn trailer(&self) -> String {
+        format!("{TEXT_END} {} {}\n", self.bytes, self.hash.hex())
+    }
+
+    pub fn into_inner(self) -> W {
+        self.inner
+    }
+
+    /// What was written, as a manifest records it (`name`: where it went).
+    pub fn sum(&self, name: &str) -> InputSum {
+        InputSum {
+            name: name.to_string(),
+            bytes: self.bytes,
+            fnv1a64: self.hash.hex(),
+        }
+    }
+}
+
+impl<W: std::io::Write> std::io::Write for HashingWriter<W> {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        let n = self.inner.write(buf)?;
+        self.hash.write(&buf[..n]);
+        self.bytes += n as u64;
+        Ok(n)
+    }
+    fn flush(&mut self) -> std::io::Result<()> {
+        self.inner.flush()
+    }
+}
+
+/// A text shard's frame, read and checked against its `# END=` line.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct TextShard {
+    pub name: String,
+    pub info: ShardInfo,
+    /// The `# COMMAND=` value.
+    pub command: String,
+    /// Byte offset and length of the body.
+    pub body: (u64, u64),
+}
+
+/// Read the frame of text shard `path` and check its body's size and hash; the error
+/// names the file and says whether it is no shard, incomplete or corrupt.
+pub fn read_text_shard(path: &str) -> Result<TextShard> {
+    use std::io::{BufRead, Read, Seek, SeekFrom};
+    let f = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
+    let size = f.metadata().map_err(|e| Error::io(path, e))?.len();
+    let mut r = std::io::BufReader::new(f);
+    let mut offset = 0u64;
+    let mut line = |what: &str| -> Result<String> {
+        let mut raw = Vec::new();
+        let n = (&mut r)
+            .take(1 << 16)
+            .read_until(b'\n', &mut raw)
+            .map_err(|e| Error::io(path, e))?;
+        offset += n as u64;
+        let text = String::from_utf8(raw).unwrap_or_default();
+        match text.strip_prefix(what) {
+            Some(v) if text.ends_with('\n') => Ok(v.trim().to_string()),
+            _ => Err(Error::Mismatch(format!(
+                "{path}: expected a '{what}' line (shard header); not a shard, or cut short"
+            ))),
+        }
+    };
+    let shard = line(TEXT_SHARD)?;
+    let command = line(TEXT_COMMAND)?;
+    let header = {
+        let mut h = Header::new();
+        h.push(format!("{SHARD_VAR}= {shard}"));
+        h
+    };
+    let info = ShardInfo::of(&header, path)?
+        .ok_or_else(|| Error::Mismatch(format!("{path}: no {SHARD_VAR}= line")))?;
+    // The trailer is the last line, under 64 bytes: read the file's tail.
+    let tail_start = size.saturating_sub(128).max(offset);
+    let mut tail = Vec::new();
+    let mut f = r.into_inner();
+    f.seek(SeekFrom::Start(tail_start))
+        .and_then(|_| f.read_to_end(&mut tail))
+        .map_err(|e| Error::io(path, e))?;
+    let incomplete = || {
+        Error::Mismatch(format!(
+            "{path}: no '{TEXT_END}' line at the end: an incomplete shard (killed job?); run \
+             it again"
+        ))
+    };
+    if tail.last() != Some(&b'\n') {
+        return Err(incomplete());
+    }
+    let start = tail[..tail.len() - 1]
+        .iter()
+        .rposition(|&b| b == b'\n')
+        .map_or(0, |i| i + 1);
+    let last = std::str::from_utf8(&tail[start..]).unwrap_or("");
+    let Some(end) = last.strip_prefix(TEXT_END) else {
+        return Err(incomplete());
+    };
+    // No newline before the last line within the tail: it is longer than any END= line.
+    if start == 0 && tail_start > offset {
+        return Err(incomplete());
+    }
+    let body_len = tail_start + start as u64 - offset;
+    let mut h = Fnv64::default();
+    let mut f = std::io::BufReader::new(f);
+    f.seek(SeekFrom::Start(offset))
+        .map_err(|e| Error::io(path, e))?;
+    let mut left = body_len;
+    while left > 0 {
+        let buf = f.fill_buf().map_err(|e| Error::io(path, e))?;
+        if buf.is_empty() {
+            break;
+        }
+        let n = buf.len().min(left as usize);
+        h.write(&buf[..n]);
+        f.consume(n);
+        left -= n as u64;
+    }
+    let want = end.trim();
+    let got = format!("{body_len} {}", h.hex());
+    if want != got {
+        return Err(Error::Mismatch(format!(
+            "{path}: the body ({got}) does not match its END= line ({want}): a corrupt \
+             shard; run it again"
+        )));
+    }
+    Ok(TextShard {
+        name: path.to_string(),
+        info,
+        command,
+        body: (offset, body_len),
+    })
+}
+
+/// Merge text shards (all N of one run, in order; with `manifests`, one per shard, checked
+/// as [`check_manifests_for`]) into `out`: their bodies one after the other. `unit` names
+/// the items in errors (views). Everything is checked before the first byte is written.
+pub fn merge_text_shards(
+    paths: &[String],
+    manifests: &[String],
+    unit: &str,
+    out: &mut dyn std::io::Write,
+) -> Result<()> {
+    use std::io::{Read, Seek, SeekFrom};
+    if paths.is_empty() {
+        return Err(Error::Usage("no shards to merge".into()));
+    }
+    let shards = paths
+        .iter()
+        .map(|p| read_text_shard(p))
+        .collect::<Result<Vec<_>>>()?;
+    let s0 = &shards[0];
+    let pieces: Vec<(&str, ShardInfo, usize)> = shards
+        .iter()
+        .map(|s| {
+            (
+                s.name.as_str(),
+                s.info,
+                s.info.shard.rows(s.info.total).len(),
+            )
+        })
+        .collect();
+    check_pieces(&pieces, unit)?;
+    for s in &shards[1..] {
+        if s.command != s0.command {
+            return Err(Error::Mismatch(format!(
+                "{} and {} come from different runs: COMMAND= {} vs {}",
+                s.name, s0.name, s.command, s0.command
+            )));
+        }
+    }
+    if !manifests.is_empty() {
+        let ms = manifests
+            .iter()
+            .map(|p| Manifest::read(p).map(|m| (p.clone(), m)))
+            .collect::<Result<Vec<_>>>()?;
+        check_manifests_for(&ms, &pieces)?;
+    }
+    for s in &shards {
+        let mut f = std::fs::File::open(&s.name).map_err(|e| Error::io(&s.name, e))?;
+        f.seek(SeekFrom::Start(s.body.0))
+            .map_err(|e| Error::io(&s.name, e))?;
+        std::io::copy(&mut f.take(s.body.1), out).map_err(|e| Error::io(&s.name, e))?;
+    }
+    out.flush().map_err(|e| Error::io("<output>", e))
 }
 
 #[cfg(test)]

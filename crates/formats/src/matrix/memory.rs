@@ -147,10 +147,11 @@ impl Matrix {
     pub fn multiply(&self, other: &Matrix) -> Result<Matrix> {
         super::ops::check_multiply("left", self.shape(), "right", other.shape())?;
         let mut out = Matrix::zeros(self.nrows, other.ncols, self.channels);
+        let op = super::Operand::from_matrix(other);
         for r in 0..self.nrows {
             let row = self.row(r);
             let n = out.row_len();
-            super::ops::multiply_row(row, other, &mut out.data[r * n..(r + 1) * n]);
+            op.multiply_row(row, &mut out.data[r * n..(r + 1) * n]);
         }
         Ok(out)
     }

@@ -22,17 +22,21 @@
 //! - [`writer`]: [`MatrixWriter`], header then rows; checks the announced NROWS.
 //! - [`ascii`]: the number tokenizer (nom) and C-style `%.Ne` formatting.
 //! - [`memory`]: [`Matrix`], a whole small matrix in memory (load, save, transpose).
+//! - [`operand`]: [`Operand`], the right operand of a streamed product, each row dense or
+//!   sparse (a sun-only sky matrix is 99.99 % zeros).
 //! - [`ops`]: shape checks, per-channel multiplication and channel transforms (`rmtxop -c`).
 //! - [`pipeline`]: [`Pipeline`], one streamed convert / multiply / stack job (`rmtx`).
 
 pub mod ascii;
 pub mod memory;
+pub mod operand;
 pub mod ops;
 pub mod pipeline;
 pub mod reader;
 pub mod writer;
 
 pub use memory::Matrix;
+pub use operand::Operand;
 pub use ops::{ChannelTransform, RowOps, Shape};
 pub use pipeline::Pipeline;
 pub use reader::{MatrixReader, ReadOptions};

@@ -18,7 +18,7 @@
 //! cumulative observer tables, laid out by the matrix header's `WAVELENGTH_SPLITS`
 //! ([`ChannelTransform::symbolic_for`]); they agree with rmtxop 6.0a to float precision.
 
-use super::Matrix;
+use super::Operand;
 use crate::error::{Error, Result};
 use crate::radiometry::{Channels, STD_PRIMARIES, WHITE_EFFICACY, rgb_to_xyz};
 use std::fmt;
@@ -90,24 +90,6 @@ pub fn check_stack(first_name: &str, first: Shape, name: &str, shape: Shape) -> 
         )));
     }
     Ok(())
-}
-
-/// `out = a · b` for one row `a` (`b.nrows * ncomp` numbers), per channel.
-pub fn multiply_row(a: &[f64], b: &Matrix, out: &mut [f64]) {
-    let nc = b.channels.ncomp;
-    out.iter_mut().for_each(|v| *v = 0.0);
-    for (h, ah) in a.chunks_exact(nc).enumerate().take(b.nrows) {
-        // Zero coefficients (e.g. ground or unseen patches) are common: skip their rows.
-        if ah.iter().all(|&v| v == 0.0) {
-            continue;
-        }
-        let brow = b.row(h);
-        for (o, bv) in out.chunks_exact_mut(nc).zip(brow.chunks_exact(nc)) {
-            for k in 0..nc {
-                o[k] += ah[k] * bv[k];
-            }
-        }
-    }
 }
 
 /// A component transform `out[o] = sum_i coefs[o * nin + i] * in[i]`.
@@ -300,10 +282,10 @@ pub fn scale_row(row: &mut [f64], factors: &[f64]) {
 
 /// What happens to each row of a streamed left operand: multiplication by the in-memory
 /// right operands in turn (left to right), then the channel transform, then the scale.
-/// Memory: the right operands plus two row buffers.
+/// Memory: the right operands ([`Operand`]: rows dense or sparse) plus two row buffers.
 #[derive(Debug, Clone)]
 pub struct RowOps {
-    chain: Vec<Matrix>,
+    chain: Vec<Operand>,
     transform: Option<ChannelTransform>,
     scale: Option<Vec<f64>>,
     ncomp_in: usize,
@@ -316,7 +298,7 @@ impl RowOps {
     /// output component.
     pub fn new(
         ncomp: usize,
-        chain: Vec<Matrix>,
+        chain: Vec<Operand>,
         transform: Option<ChannelTransform>,
         scale: Option<Vec<f64>>,
     ) -> Self {
@@ -347,7 +329,7 @@ impl RowOps {
         for m in &self.chain {
             b.clear();
             b.resize(m.row_len(), 0.0);
-            multiply_row(a, m, b);
+            m.multiply_row(a, b);
             std::mem::swap(a, b);
         }
         if let Some(t) = &self.transform {
@@ -394,7 +376,7 @@ mod tests {
     fn multiply_matches_brute_force() {
         // 2x3x2 times 3x2x2, against a direct triple loop.
         let a: Vec<f64> = (0..12).map(|i| i as f64 * 0.5 - 1.0).collect();
-        let b = Matrix {
+        let b = super::super::Matrix {
             nrows: 3,
             ncols: 2,
             channels: Channels {
@@ -403,9 +385,10 @@ mod tests {
             },
             data: (0..12).map(|i| (i * i) as f64 * 0.25).collect(),
         };
+        let op = Operand::from_matrix(&b);
         for i in 0..2 {
             let mut out = vec![0.0; 4];
-            multiply_row(&a[i * 6..(i + 1) * 6], &b, &mut out);
+            op.multiply_row(&a[i * 6..(i + 1) * 6], &mut out);
             for j in 0..2 {
                 for k in 0..2 {
                     let want: f64 = (0..3).map(|h| a[i * 6 + h * 2 + k] * b.get(h, j)[k]).sum();

@@ -4,7 +4,11 @@
 //! header (and loads every right operand) before anything is written, so a shape or
 //! NCOMP mismatch is reported first; then the first input is streamed row by row through
 //! the multiplications, the channel transform (`rmtxop -c`) and the scale (`rmtxop -s`).
-//! With [`Pipeline::stack`] the inputs' row blocks are concatenated instead.
+//! With [`Pipeline::stack`] the inputs' row blocks are concatenated instead, with
+//! [`Pipeline::columns`] their column blocks (side by side). [`Pipeline::hours`] computes
+//! one time chunk of a product (columns `A..B` of the right-most matrix, 0-based,
+//! half-open), and `columns` merges such chunks back into the whole product's bytes
+//! ([`crate::hours`]).
 //!
 //! Channels multiply per channel (RGB x RGB multiplies red by red, as dctimestep and rmtxop
 //! do). `-c`, `-s` and `-t` apply to the result (unlike rmtxop, where options before a
@@ -17,14 +21,16 @@
 use super::ops::{check_multiply, check_stack, scale_factors};
 use super::writer::{DOUBLE_DIGITS, FLOAT_DIGITS};
 use super::{
-    ChannelTransform, DataFormat, Matrix, MatrixReader, MatrixWriter, ReadOptions, RowOps, Shape,
-    WriteOptions,
+    ChannelTransform, DataFormat, Matrix, MatrixReader, MatrixWriter, Operand, ReadOptions, RowOps,
+    Shape, WriteOptions,
 };
 use crate::error::{Error, Result};
 use crate::header::Header;
+use crate::hours::{ChunkManifest, HOURS_VAR, HourSpan, HoursInfo};
 use crate::radiometry::Channels;
-use crate::shard::{Manifest, SHARD_VAR, ShardInfo};
-use std::io::{BufRead, Write};
+use crate::shard::{InputSum, Manifest, SHARD_VAR, ShardInfo};
+use std::io::{BufRead, Read, Write};
+use std::ops::Range;
 
 /// One `rmtx` run.
 #[derive(Debug, Clone, PartialEq)]
@@ -33,6 +39,9 @@ pub struct Pipeline {
     pub inputs: Vec<String>,
     /// Concatenate row blocks of inputs with equal NCOLS and NCOMP instead of multiplying.
     pub stack: bool,
+    /// Concatenate column blocks of inputs with equal NROWS and NCOMP (side by side)
+    /// instead of multiplying; `rmtx --hours` chunks are checked and merged verbatim.
+    pub columns: bool,
     /// How inputs without a header are read (`EXPOSURE=`/`COLORCORR=` are divided out).
     pub read: ReadOptions,
     /// Channel transform of the result (`rmtxop -c`): coefficients or one symbolic word.
@@ -52,19 +61,40 @@ pub struct Pipeline {
     /// The output is a seekable file.
     pub seekable: bool,
     /// With `stack`: the shards' manifests (`rdc --manifest`), checked against each other
-    /// and the inputs before the merge ([`crate::shard::check_manifests`]).
+    /// and the inputs before the merge ([`crate::shard::check_manifests`]); with `columns`:
+    /// the hour chunks' manifests ([`crate::hours::check_manifests`]).
     pub manifests: Vec<String>,
+    /// Compute only these hours: columns of the right-most matrix (the sky's time steps),
+    /// 0-based, half-open ([`crate::hours`]); the header gets a `HOURS=` line.
+    pub hours: Option<HourSpan>,
+    /// With `hours`: write the chunk's manifest here once the output is complete.
+    pub manifest: Option<String>,
+    /// Check each input, an `rdc --shard` output, against its manifest alone (one per
+    /// input in `manifests`) and report one line per shard instead of merging: what a
+    /// resume needs to know which shards to run again ([`Pipeline::verify_shards`]).
+    pub verify: bool,
 }
 
 /// The inputs, opened and checked, ready to stream.
 struct Opened {
-    /// Streamed inputs (the first, or all with `stack`).
+    /// Streamed inputs (the first, or all with `stack` or `columns`).
     readers: Vec<MatrixReader<Box<dyn BufRead>>>,
     /// Right operands, in memory.
-    chain: Vec<Matrix>,
+    chain: Vec<Operand>,
     nrows: Option<usize>,
     in_format: DataFormat,
     all_double: bool,
+    /// Read the readers side by side (`columns`) rather than one after the other.
+    side_by_side: bool,
+    /// With `stack`: the reader being read.
+    current: usize,
+    /// Rows delivered so far.
+    rows: usize,
+    /// With `hours`: the chunk's columns and the whole product's.
+    hours: Option<HoursInfo>,
+    /// With `hours` and no right operand: the columns kept of each streamed row.
+    keep: Option<Range<usize>>,
+    scratch: Vec<f64>,
 }
 
 impl Pipeline {
@@ -76,19 +106,67 @@ impl Pipeline {
         }
     }
 
-    /// Run the job, writing to `out` (`name` in errors); `progress(rows, finished)` is
-    /// called every 256 rows and once at the end.
-    pub fn run<W: Write>(&self, out: W, name: &str, progress: &dyn Fn(usize, bool)) -> Result<()> {
-        let inputs = self.inputs();
+    /// Option combinations that make no sense, refused before anything is read.
+    fn check_options(&self, inputs: &[String]) -> Result<()> {
         if inputs.iter().filter(|p| *p == "-").count() > 1 {
             return Err(Error::Usage(
                 "standard input used for more than one matrix".into(),
             ));
         }
-        if !self.manifests.is_empty() && !self.stack {
+        if self.verify
+            && (self.stack || self.columns || self.hours.is_some() || inputs.contains(&"-".into()))
+        {
             return Err(Error::Usage(
-                "--manifests checks shards: it needs --cat".into(),
+                "--verify checks shard files against their manifests: no --cat, \
+                 --cat-columns, --hours or standard input"
+                    .into(),
             ));
+        }
+        if self.stack && self.columns {
+            return Err(Error::Usage(
+                "--cat stacks rows, --cat-columns joins columns: give one of them".into(),
+            ));
+        }
+        if !self.manifests.is_empty() && !self.stack && !self.columns && !self.verify {
+            return Err(Error::Usage(
+                "--manifests checks shards or hour chunks: it needs --cat, --cat-columns or \
+                 --verify"
+                    .into(),
+            ));
+        }
+        if self.hours.is_some() && (self.stack || self.columns) {
+            return Err(Error::Usage(
+                "--hours computes one chunk of a product, --cat/--cat-columns merge: not both"
+                    .into(),
+            ));
+        }
+        if self.hours.is_some() && self.transpose {
+            return Err(Error::Usage(
+                "--hours with -t: chunks are merged along columns; transpose the merged \
+                 product instead"
+                    .into(),
+            ));
+        }
+        if self.manifest.is_some() && self.hours.is_none() {
+            return Err(Error::Usage(
+                "--manifest describes an hour chunk: it needs --hours A:B or K/N".into(),
+            ));
+        }
+        if self.manifest.is_some() && inputs.iter().any(|p| p == "-") {
+            return Err(Error::Usage(
+                "--manifest hashes the inputs: give matrix files, not standard input".into(),
+            ));
+        }
+        Ok(())
+    }
+
+    /// Run the job, writing to `out` (`name` in errors); `progress(rows, finished)` is
+    /// called every 256 rows and once at the end.
+    pub fn run<W: Write>(&self, out: W, name: &str, progress: &dyn Fn(usize, bool)) -> Result<()> {
+        let inputs = self.inputs();
+        self.check_options(&inputs)?;
+        if self.verify {
+            return self.verify_shards(&inputs, out, name);
         }
         if self.stack {
             if let Some(shards) = self.shard_headers(&inputs)? {
@@ -101,9 +179,29 @@ impl Pipeline {
                 )));
             }
         }
+        if self.columns {
+            if let Some(chunks) = self.chunk_headers(&inputs)? {
+                return self.merge_hours(&inputs, chunks, out, name, progress);
+            }
+            if !self.manifests.is_empty() {
+                return Err(Error::Mismatch(format!(
+                    "--manifests: {} has no HOURS= line (not an rmtx --hours output)",
+                    inputs[0]
+                )));
+            }
+        }
+        // Hash before reading: the manifest names what this chunk was computed from.
+        let sums = match &self.manifest {
+            Some(_) => inputs
+                .iter()
+                .map(|p| InputSum::of_file(p))
+                .collect::<Result<Vec<_>>>()?,
+            None => Vec::new(),
+        };
         let mut o = self.open(&inputs)?;
         let first_ch = o.readers[0].info().channels;
-        let (ncols, ncomp) = (o.readers[0].ncols(), o.readers[0].ncomp());
+        let ncomp = o.readers[0].ncomp();
+        let ncols = o.in_ncols();
         let transform = if self.coefs.is_empty() {
             None
         } else {
@@ -126,13 +224,14 @@ impl Pipeline {
         let wopts = self.write_options(&o, out_ncomp);
         let mut header = Header::new();
         header.push_command(&self.command);
+        if let Some(h) = &o.hours {
+            header.push(h.line());
+        }
         let out_ncols = ops.out_ncols(ncols);
         let mut row = vec![0.0; ncols * ncomp];
         let mut done = 0usize;
-        let mut each = |r: &mut MatrixReader<Box<dyn BufRead>>,
-                        f: &mut dyn FnMut(&[f64]) -> Result<()>|
-         -> Result<()> {
-            while r.read_row(&mut row)? {
+        let mut each = |o: &mut Opened, f: &mut dyn FnMut(&[f64]) -> Result<()>| -> Result<()> {
+            while o.next_row(&mut row)? {
                 f(ops.apply(&row))?;
                 done += 1;
                 if done % 256 == 0 {
@@ -143,12 +242,10 @@ impl Pipeline {
         };
         if self.transpose {
             let mut data = Vec::new();
-            for r in &mut o.readers {
-                each(r, &mut |v| {
-                    data.extend_from_slice(v);
-                    Ok(())
-                })?;
-            }
+            each(&mut o, &mut |v| {
+                data.extend_from_slice(v);
+                Ok(())
+            })?;
             let m = Matrix {
                 nrows: done,
                 ncols: out_ncols,
@@ -158,12 +255,22 @@ impl Pipeline {
             m.transpose().write(out, name, header, wopts)?;
         } else {
             let mut w = MatrixWriter::new(out, name, header, o.nrows, out_ncols, channels, wopts)?;
-            for r in &mut o.readers {
-                each(r, &mut |v| w.write_row(v))?;
-            }
+            each(&mut o, &mut |v| w.write_row(v))?;
             w.finish()?;
         }
         progress(done, true);
+        if let (Some(path), Some(h)) = (&self.manifest, &o.hours) {
+            ChunkManifest {
+                tool: "rmtx".into(),
+                version: env!("CARGO_PKG_VERSION").into(),
+                command: self.command.clone(),
+                first_hour: h.first,
+                end_hour: h.end,
+                total_hours: h.total,
+                inputs: sums,
+            }
+            .write(path)?;
+        }
         Ok(())
     }
 
@@ -171,7 +278,11 @@ impl Pipeline {
     /// files' data before anything is written ([`super::reader::check_data`]).
     fn open(&self, inputs: &[String]) -> Result<Opened> {
         let mut readers = Vec::new();
-        let streamed = if self.stack { inputs } else { &inputs[..1] };
+        let streamed = if self.stack || self.columns {
+            inputs
+        } else {
+            &inputs[..1]
+        };
         for p in streamed {
             readers.push(MatrixReader::open(p, &self.read)?);
         }
@@ -183,11 +294,19 @@ impl Pipeline {
             all_double: in_format == DataFormat::Double,
             readers,
             chain: Vec::new(),
+            side_by_side: self.columns,
+            current: 0,
+            rows: 0,
+            hours: None,
+            keep: None,
+            scratch: Vec::new(),
         };
         if self.stack {
             o.check_stack()?;
+        } else if self.columns {
+            o.check_columns()?;
         } else {
-            o.load_chain(&inputs[1..], &self.read)?;
+            o.load_chain(&inputs[1..], &self.read, self.hours)?;
         }
         // A transposed result is held whole before it is written: no need to read twice.
         if !self.transpose {
@@ -222,9 +341,7 @@ impl Pipeline {
     fn shard_headers(&self, inputs: &[String]) -> Result<Option<Vec<(String, Header, usize)>>> {
         let mut headers = Vec::new();
         for p in inputs.iter().filter(|p| *p != "-") {
-            let f = std::fs::File::open(p).map_err(|e| Error::io(p, e))?;
-            let h = Header::read(&mut std::io::BufReader::new(f), p)?;
-            headers.push((p.clone(), h));
+            headers.push((p.clone(), read_header(p)?));
         }
         if !headers.iter().any(|(_, h)| h.get(SHARD_VAR).is_some()) {
             return Ok(None);
@@ -275,6 +392,12 @@ impl Pipeline {
             all_double: false,
             readers,
             chain: Vec::new(),
+            side_by_side: false,
+            current: 0,
+            rows: 0,
+            hours: None,
+            keep: None,
+            scratch: Vec::new(),
         };
         o.check_stack()?;
         let info = o.readers[0].info().clone();
@@ -343,27 +466,259 @@ impl Pipeline {
         for p in &self.manifests {
             ms.push((p.clone(), Manifest::read(p)?));
         }
-        crate::shard::check_manifests(&ms)?;
-        if ms.len() != shards.len() {
-            return Err(Error::Mismatch(format!(
-                "{} manifests for {} shards: give one manifest per shard, in the same order",
-                ms.len(),
-                shards.len()
+        let mut pieces = Vec::new();
+        for (p, h, nrows) in shards {
+            let info = ShardInfo::of(h, p)?
+                .ok_or_else(|| Error::Mismatch(format!("{p} has no {SHARD_VAR}= line")))?;
+            pieces.push((p.as_str(), info, *nrows));
+        }
+        crate::shard::check_manifests_for(&ms, &pieces)?;
+        // The bytes each shard's job wrote (a second read, before anything is written).
+        for ((_, m), (p, _, _)) in ms.iter().zip(shards) {
+            m.check_output(p)?;
+        }
+        Ok(())
+    }
+
+    /// `--verify`: each input against its own manifest: the `SHARD=` line and rows it
+    /// describes, the data's size and the output's hash. One line per shard on `out`
+    /// (`dc.3.mtx: complete (shard 3/8, rows 60..80 of 165)` or what is wrong); an error
+    /// naming the shards that are not complete.
+    fn verify_shards<W: Write>(&self, inputs: &[String], mut out: W, name: &str) -> Result<()> {
+        if self.manifests.len() != inputs.len() {
+            return Err(Error::Usage(format!(
+                "--verify: {} shard files and {} manifests; give one manifest per shard, in \
+                 the same order (--manifests last)",
+                inputs.len(),
+                self.manifests.len()
             )));
         }
-        for ((mp, m), (p, h, nrows)) in ms.iter().zip(shards) {
-            let s = ShardInfo::of(h, p)?.map(|i| (i.shard, i.first, i.total));
-            if s != Some((m.shard, m.first_row, m.total_rows)) || m.rows != *nrows {
+        let mut bad = Vec::new();
+        for (p, mp) in inputs.iter().zip(&self.manifests) {
+            let line = match self.verify_one(p, mp) {
+                Ok(s) => format!("{p}: complete ({s})"),
+                Err(e) => {
+                    bad.push(p.as_str());
+                    format!(
+                        "{p}: {}",
+                        e.to_string().trim_start_matches(&format!("{p}: "))
+                    )
+                }
+            };
+            writeln!(out, "{line}").map_err(|e| Error::io(name, e))?;
+        }
+        out.flush().map_err(|e| Error::io(name, e))?;
+        if bad.is_empty() {
+            return Ok(());
+        }
+        Err(Error::Mismatch(format!(
+            "{} of {} shards missing, incomplete or corrupt: {}",
+            bad.len(),
+            inputs.len(),
+            bad.join(" ")
+        )))
+    }
+
+    /// One shard against its manifest; the shard's description when it is complete.
+    fn verify_one(&self, p: &str, mp: &str) -> Result<String> {
+        let m = Manifest::read(mp)?;
+        let h = read_header(p)?;
+        let info = ShardInfo::of(&h, p)?
+            .ok_or_else(|| Error::Mismatch(format!("{p}: no {SHARD_VAR}= line: not a shard")))?;
+        let nrows = h.get_usize("NROWS", p)?;
+        if (info.shard, info.first, info.total) != (m.shard, m.first_row, m.total_rows)
+            || nrows != Some(m.rows)
+        {
+            return Err(Error::Mismatch(format!(
+                "{mp} describes shard {} (rows {}..{} of {}) but {p} is not that shard",
+                m.shard,
+                m.first_row,
+                m.first_row + m.rows,
+                m.total_rows
+            )));
+        }
+        // Opening checks a binary shard's size against NROWS; the hash checks every byte.
+        MatrixReader::open(p, &self.read)?;
+        if m.output.is_none() {
+            let (lines, whole) = data_lines(p)?;
+            let binary = h.format().is_some_and(|f| f == "float" || f == "double");
+            if !binary && (lines != m.rows || !whole) {
                 return Err(Error::Mismatch(format!(
-                    "{mp} describes shard {} (rows {}..{} of {}) but {p} is not that shard",
-                    m.shard,
-                    m.first_row,
-                    m.first_row + m.rows,
-                    m.total_rows
+                    "{p}: NROWS={} but the data holds {lines} lines: an incomplete shard",
+                    m.rows
                 )));
             }
         }
+        m.check_output(p)?;
+        Ok(format!(
+            "shard {}, rows {}..{} of {}",
+            m.shard,
+            m.first_row,
+            m.first_row + m.rows,
+            m.total_rows
+        ))
+    }
+}
+
+impl Pipeline {
+    /// With `--cat-columns`: the inputs' headers when they are `rmtx --hours` chunks (any
+    /// file with an `HOURS=` line), `None` for ordinary matrices.
+    fn chunk_headers(&self, inputs: &[String]) -> Result<Option<Vec<(String, Header)>>> {
+        let mut headers = Vec::new();
+        for p in inputs.iter().filter(|p| *p != "-") {
+            headers.push((p.clone(), read_header(p)?));
+        }
+        if !headers.iter().any(|(_, h)| h.get(HOURS_VAR).is_some()) {
+            return Ok(None);
+        }
+        if inputs.iter().any(|p| p == "-") {
+            return Err(Error::Usage(
+                "rmtx --hours chunks are merged from files, not standard input".into(),
+            ));
+        }
+        Ok(Some(headers))
+    }
+
+    /// `rmtx --cat-columns` of `rmtx --hours` chunks: check they are the chunks of one
+    /// product tiling its hours (and their manifests agree), write the whole product's
+    /// header, then each row as the chunks' row pieces verbatim, so the result has the
+    /// whole product's bytes (module docs of [`crate::hours`]). Every check, sizes
+    /// included, comes before the first byte is written.
+    fn merge_hours<W: Write>(
+        &self,
+        inputs: &[String],
+        chunks: Vec<(String, Header)>,
+        mut out: W,
+        name: &str,
+        progress: &dyn Fn(usize, bool),
+    ) -> Result<()> {
+        if !self.coefs.is_empty() || !self.scale.is_empty() || self.transpose {
+            return Err(Error::Usage(
+                "rmtx --cat-columns of hour chunks copies them verbatim: no -c, -s or -t \
+                 (convert the merged matrix with a second rmtx)"
+                    .into(),
+            ));
+        }
+        let (header, infos) = crate::hours::merged_header(&chunks)?;
+        // Opening checks each binary chunk's size against its NROWS and NCOLS.
+        let mut readers = Vec::new();
+        for p in inputs {
+            readers.push(MatrixReader::open(p, &self.read)?);
+        }
+        let info = readers[0].info().clone();
+        let elem = info.format.elem_size();
+        let row_bytes: Vec<usize> = readers.iter().map(|r| r.row_len() * elem).collect();
+        drop(readers);
+        let nrows = info.nrows.ok_or_else(|| {
+            Error::Mismatch(format!(
+                "{}: a chunk without NROWS= cannot be checked; give the product's first \
+                 matrix a header with NROWS",
+                inputs[0]
+            ))
+        })?;
+        if info.format.is_picture() {
+            return Err(Error::Usage(format!(
+                "{}: chunks in {} rows cannot be merged; write them with -fa, -ff or -fd",
+                inputs[0],
+                info.format.name()
+            )));
+        }
+        if self.format.is_some_and(|f| f != info.format) {
+            return Err(Error::Usage(
+                "rmtx --cat-columns of hour chunks copies them verbatim: no -f (convert the \
+                 merged matrix with a second rmtx)"
+                    .into(),
+            ));
+        }
+        if !self.manifests.is_empty() {
+            let mut ms = Vec::new();
+            for p in &self.manifests {
+                ms.push((p.clone(), ChunkManifest::read(p)?));
+            }
+            let named: Vec<(String, HoursInfo)> = chunks
+                .iter()
+                .map(|(p, _)| p.clone())
+                .zip(infos.iter().copied())
+                .collect();
+            crate::hours::check_manifests(&ms, &named)?;
+        }
+        let binary = matches!(info.format, DataFormat::Float | DataFormat::Double);
+        if !binary {
+            // One line per row (our ascii writer's layout): count them before writing.
+            for p in inputs {
+                let (lines, whole) = data_lines(p)?;
+                if lines != nrows || !whole {
+                    return Err(Error::Mismatch(format!(
+                        "{p}: NROWS={nrows} but the data holds {lines} lines{}: an \
+                         incomplete chunk?",
+                        if whole { "" } else { " and a partial one" }
+                    )));
+                }
+            }
+        }
+        let mut files = Vec::new();
+        for p in inputs {
+            let f = std::fs::File::open(p).map_err(|e| Error::io(p, e))?;
+            let mut r = std::io::BufReader::with_capacity(1 << 16, f);
+            Header::read(&mut r, p)?;
+            files.push(r);
+        }
+        if self.header {
+            let align = if binary && self.seekable { elem } else { 1 };
+            header
+                .write(&mut out, align)
+                .map_err(|e| Error::io(name, e))?;
+        }
+        let last = files.len() - 1;
+        let mut piece = Vec::new();
+        for row in 0..nrows {
+            for (k, (r, p)) in files.iter_mut().zip(inputs).enumerate() {
+                if binary {
+                    piece.resize(row_bytes[k], 0);
+                    r.read_exact(&mut piece).map_err(|e| Error::io(p, e))?;
+                } else {
+                    piece.clear();
+                    r.read_until(b'\n', &mut piece)
+                        .map_err(|e| Error::io(p, e))?;
+                    // A row's pieces join into one line: only the last keeps its newline.
+                    if k < last && piece.last() == Some(&b'\n') {
+                        piece.pop();
+                    }
+                }
+                out.write_all(&piece).map_err(|e| Error::io(name, e))?;
+            }
+            if row % 256 == 255 {
+                progress(row + 1, false);
+            }
+        }
+        out.flush().map_err(|e| Error::io(name, e))?;
+        progress(nrows, true);
         Ok(())
+    }
+}
+
+/// The header of matrix file `p`.
+fn read_header(p: &str) -> Result<Header> {
+    let f = std::fs::File::open(p).map_err(|e| Error::io(p, e))?;
+    Header::read(&mut std::io::BufReader::new(f), p)
+}
+
+/// The newlines in the data of file `p` (after its header) and whether the data ends with
+/// one (or is empty).
+fn data_lines(p: &str) -> Result<(usize, bool)> {
+    let f = std::fs::File::open(p).map_err(|e| Error::io(p, e))?;
+    let mut r = std::io::BufReader::with_capacity(1 << 16, f);
+    Header::read(&mut r, p)?;
+    let (mut lines, mut last) = (0usize, b'\n');
+    loop {
+        let buf = r.fill_buf().map_err(|e| Error::io(p, e))?;
+        let Some(&b) = buf.last() else {
+            return Ok((lines, last == b'\n'));
+        };
+        lines += buf.iter().filter(|&&c| c == b'\n').count();
+        last = b;
+        let n = buf.len();
+        r.consume(n);
     }
 }
 
@@ -413,22 +768,136 @@ impl Opened {
         Ok(())
     }
 
-    /// Open the right operands, check their headers, then load them.
-    fn load_chain(&mut self, paths: &[String], ropts: &ReadOptions) -> Result<()> {
+    /// Open the right operands, check their headers, then load them. With `hours`, only
+    /// those columns of the right-most matrix are kept (of the streamed rows when there is
+    /// no right operand).
+    fn load_chain(
+        &mut self,
+        paths: &[String],
+        ropts: &ReadOptions,
+        hours: Option<HourSpan>,
+    ) -> Result<()> {
         let mut right = Vec::new();
         for p in paths {
             right.push(MatrixReader::open(p, ropts)?);
         }
         // Cheap header checks first, so a mismatch is reported before any large load.
         self.check_headers(&right)?;
+        let cols = match hours {
+            None => None,
+            Some(span) => {
+                let last = right.last().unwrap_or(&self.readers[0]);
+                let total = last.ncols();
+                let cols = span.resolve(total, last.name())?;
+                self.hours = Some(HoursInfo {
+                    first: cols.start,
+                    end: cols.end,
+                    total,
+                });
+                Some(cols)
+            }
+        };
+        if right.is_empty() {
+            self.keep = cols;
+            return Ok(());
+        }
+        let nright = right.len();
         let mut prev = self.first();
-        for mut r in right {
+        for (i, mut r) in right.into_iter().enumerate() {
             let name = r.name().to_string();
             self.note_format(r.info().format);
-            let m = Matrix::read_all(&mut r)?;
+            let keep = cols.clone().filter(|_| i + 1 == nright);
+            let m = Operand::read(&mut r, keep)?;
             check_multiply(&prev.0, prev.1, &name, m.shape())?;
             prev = (name, m.shape());
             self.chain.push(m);
+        }
+        Ok(())
+    }
+
+    /// Columns of the rows [`Opened::next_row`] delivers.
+    fn in_ncols(&self) -> usize {
+        if self.side_by_side {
+            self.readers.iter().map(|r| r.ncols()).sum()
+        } else if let Some(k) = &self.keep {
+            k.len()
+        } else {
+            self.readers[0].ncols()
+        }
+    }
+
+    /// The next input row (`in_ncols * ncomp` numbers): the readers one after the other,
+    /// or side by side; `false` at the end.
+    fn next_row(&mut self, row: &mut [f64]) -> Result<bool> {
+        if self.side_by_side {
+            let mut off = 0;
+            let mut ended: Vec<usize> = Vec::new();
+            for (i, r) in self.readers.iter_mut().enumerate() {
+                let n = r.row_len();
+                if !r.read_row(&mut row[off..off + n])? {
+                    ended.push(i);
+                }
+                off += n;
+            }
+            if ended.is_empty() {
+                self.rows += 1;
+                return Ok(true);
+            }
+            if ended.len() == self.readers.len() {
+                return Ok(false);
+            }
+            let short = &self.readers[ended[0]];
+            let long = (0..self.readers.len())
+                .find(|i| !ended.contains(i))
+                .map_or("", |i| self.readers[i].name());
+            return Err(Error::Mismatch(format!(
+                "{} ends after {} rows but {long} has more: matrices joined side by side \
+                 need equal NROWS",
+                short.name(),
+                self.rows
+            )));
+        }
+        if let Some(k) = &self.keep {
+            let nc = self.readers[0].ncomp();
+            self.scratch.resize(self.readers[0].row_len(), 0.0);
+            if !self.readers[0].read_row(&mut self.scratch)? {
+                return Ok(false);
+            }
+            row.copy_from_slice(&self.scratch[k.start * nc..k.end * nc]);
+            self.rows += 1;
+            return Ok(true);
+        }
+        while self.current < self.readers.len() {
+            if self.readers[self.current].read_row(row)? {
+                self.rows += 1;
+                return Ok(true);
+            }
+            self.current += 1;
+        }
+        Ok(false)
+    }
+
+    /// `--cat-columns`: equal NROWS (where known) and NCOMP.
+    fn check_columns(&mut self) -> Result<()> {
+        let (fname, fshape) = self.first();
+        let mut formats = Vec::new();
+        for r in &self.readers[1..] {
+            let s = r.info().shape();
+            let rows_differ = matches!((fshape.nrows, s.nrows), (Some(a), Some(b)) if a != b);
+            if s.ncomp != fshape.ncomp || rows_differ {
+                return Err(Error::Mismatch(format!(
+                    "{} ({s}) cannot be joined beside {fname} ({fshape}): NROWS and NCOMP \
+                     must agree",
+                    r.name()
+                )));
+            }
+            if s.nrows.is_none() {
+                self.nrows = None;
+            }
+            formats.push(r.info().format);
+        }
+        for f in formats {
+            self.note_format(f);
         }
         Ok(())
     }

@@ -21,7 +21,9 @@ use super::tracer::{Estimator, Mode, Quantity, Query, Rng, Stratum, SunDisc, Tal
 use crate::error::{Error, Location, Result};
 use crate::formats::matrix::DataFormat;
 use crate::formats::sensors::{RayFormat, RayReader, SensorRay};
-use crate::formats::shard::{HashingReader, InputSum, Manifest, Shard, ShardInfo, SharedHash};
+use crate::formats::shard::{
+    HashingReader, HashingWriter, InputSum, Manifest, Shard, ShardInfo, SharedHash,
+};
 use crate::formats::view::{Camera, View};
 use crate::geometry::vec3::normalized;
 use crate::material::ShadingOptions;
@@ -503,21 +505,27 @@ pub fn main(run: &Run) -> Result<()> {
     let reweight = tracer.reweight.as_ref();
     let t_trace = std::time::Instant::now();
     let sensor_hash = SharedHash::default();
-    let result = pool.install(|| match &run.view {
-        Some(v) => picture(run, &job, *v, out_channels, seekable, reweight),
-        None => {
-            let stdin = std::io::stdin();
-            let hashed = HashingReader::new(stdin.lock(), sensor_hash.clone());
-            let reader = RayReader::new(hashed, "<stdin>", run.input);
-            sensors(
-                run,
-                &job,
-                reader,
-                out_channels,
-                (stdout.lock(), seekable),
-                reweight,
-            )
-        }
+    // What goes to standard output is hashed for a shard's manifest (`output`), so a merge
+    // or a resume can tell a complete shard from a damaged one.
+    let (result, written) = pool.install(|| {
+        let mut out = HashingWriter::new(stdout.lock());
+        let result = match &run.view {
+            Some(v) => picture(run, &job, *v, out_channels, (&mut out, seekable), reweight),
+            None => {
+                let stdin = std::io::stdin();
+                let hashed = HashingReader::new(stdin.lock(), sensor_hash.clone());
+                let reader = RayReader::new(hashed, "<stdin>", run.input);
+                sensors(
+                    run,
+                    &job,
+                    reader,
+                    out_channels,
+                    (&mut out, seekable),
+                    reweight,
+                )
+            }
+        };
+        (result, out.sum("<stdout>"))
     });
     let result = match (result, &run.manifest, run.shard) {
         (Ok(rows), Some(path), Some(shard)) => {
@@ -543,6 +551,7 @@ pub fn main(run: &Run) -> Result<()> {
                 rows: rows.len(),
                 total_rows: rows.total,
                 inputs,
+                output: Some(written),
             }
             .write(path)
         }
@@ -811,12 +820,12 @@ pub fn sensors<R: BufRead, W: Write>(
 /// Picture mode: one record per pixel, rows top to bottom; a picture under a sky, or with
 /// coefficient modes one matrix row per pixel.
 #[allow(clippy::too_many_arguments)]
-fn picture(
+fn picture<W: Write>(
     run: &Run,
     job: &Job,
     view: View,
     channels: Channels,
-    seekable: bool,
+    (out, seekable): (W, bool),
     reweight: Option<&ReweightOut>,
 ) -> Result<Rows> {
     let (command, format) = (&run.command, run.output);
@@ -853,7 +862,6 @@ fn picture(
     };
     let nrec = rows.len();
     let ncols = job.mode.ncols();
-    let stdout = std::io::stdout();
     let matrix = !matches!(job.mode, Mode::Values);
     let mut se_out = output::SeWriter::open(run.se_out.as_deref(), command, nrec)?;
     let mut rw_out = ReweightFile::open(reweight, nrec, ncols, job.ncomp)?;
@@ -868,20 +876,13 @@ fn picture(
         );
         rows.mark(run.shard, &mut header);
         Sink::matrix(
-            stdout.lock(),
-            header,
-            nrec,
-            ncols,
-            channels,
-            format,
-            run.header,
-            seekable,
+            out, header, nrec, ncols, channels, format, run.header, seekable,
         )?
     } else {
         let header = output::header(command, Some(cam.view()), &channels, None, 0, format);
         Sink::picture_to(
             run.picture_file.as_deref(),
-            stdout.lock(),
+            out,
             header,
             xres,
             yres,
