@@ -45,12 +45,7 @@ impl Default for StudyConfig {
     /// The main job's settings: `-ab 5 -ad 10000 -lw 1e-5 -m 1`, occupied 8-18 h.
     fn default() -> Self {
         StudyConfig {
-            sampling: Sampling {
-                ab: 5,
-                ad: 10000,
-                lw: 1e-5,
-                ..Sampling::default()
-            },
+            sampling: Sampling::main_job(),
             mf: 1,
             seed: 1,
             occupied: (8.0, 18.0),

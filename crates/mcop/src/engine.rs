@@ -27,7 +27,7 @@ use rdaylight_base::radiometry::{RGB_PHOTOPIC_ROUNDED, WHITE_EFFICACY};
 use rdaylight_formats::scene::Scene;
 use rdaylight_formats::sensors::SensorRay;
 use rdaylight_glod::study::OccupiedSky;
-use rdaylight_trace::rdc::{Config, Reweight, Sampling, Tracer};
+use rdaylight_trace::rdc::{Config, Reweight, Tracer};
 use rdaylight_trace::trace::reweight::Reweighting;
 
 /// A traced level, ready for draws.
@@ -62,26 +62,22 @@ pub struct Hourly {
 
 impl LevelModel {
     /// Trace `scene`'s sky coefficients at `sensors` (irradiance) with re-weighting records
-    /// for every reflecting or transmitting material (or `materials`).
-    #[allow(clippy::too_many_arguments)]
+    /// for every reflecting or transmitting material (or `cfg.materials`), with the study's
+    /// sampling, sky subdivision, seed and threads.
     pub fn trace(
         scene: &Scene,
         sensors: &[SensorRay],
-        mf: usize,
-        sampling: Sampling,
-        seed: u64,
-        threads: Option<usize>,
-        materials: Option<Vec<String>>,
+        cfg: &crate::study::StudyConfig,
         sky: &OccupiedSky,
     ) -> Result<LevelModel> {
         let config = Config {
-            seed,
-            threads,
+            seed: cfg.seed,
+            threads: cfg.threads,
             reweight: Some(Reweight {
                 path: None,
-                materials,
+                materials: cfg.materials.clone(),
             }),
-            ..Config::sky_coefficients(mf, sampling)
+            ..Config::sky_coefficients(cfg.mf, cfg.sampling)
         };
         let t0 = std::time::Instant::now();
         let tracer = Tracer::new(&config, scene)?;

@@ -64,12 +64,7 @@ impl Default for StudyConfig {
     /// 8-18 h, the main job's `-ab 5 -ad 10000 -lw 1e-5`.
     fn default() -> Self {
         StudyConfig {
-            sampling: Sampling {
-                ab: 5,
-                ad: 10000,
-                lw: 1e-5,
-                ..Sampling::default()
-            },
+            sampling: Sampling::main_job(),
             mf: 1,
             seed: 1,
             occupied: (8.0, 18.0),
@@ -165,16 +160,7 @@ pub fn prepare(
     for &level in &wanted {
         progress(&format!("tracing GLoD{level}"));
         let sub = filter(scene, analysis, level)?;
-        let model = LevelModel::trace(
-            &sub,
-            sensors,
-            cfg.mf,
-            cfg.sampling,
-            cfg.seed,
-            cfg.threads,
-            cfg.materials.clone(),
-            &sky,
-        )?;
+        let model = LevelModel::trace(&sub, sensors, cfg, &sky)?;
         let mut props = model
             .materials
             .iter()

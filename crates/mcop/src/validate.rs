@@ -141,16 +141,7 @@ pub fn validate(
     let t_rms = (nu / (nu - 2.0)).sqrt();
     let sky = OccupiedSky::new(weather, cfg.mf, cfg.occupied)?;
     progress("tracing with re-weighting records");
-    let model = LevelModel::trace(
-        scene,
-        sensors,
-        cfg.mf,
-        cfg.sampling,
-        cfg.seed,
-        cfg.threads,
-        cfg.materials.clone(),
-        &sky,
-    )?;
+    let model = LevelModel::trace(scene, sensors, cfg, &sky)?;
     let props = model
         .materials
         .iter()

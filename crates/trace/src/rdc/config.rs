@@ -58,6 +58,19 @@ pub struct Sampling {
     pub ss: f64,
 }
 
+impl Sampling {
+    /// The main job's `-ab 5 -ad 10000 -lw 1e-5` (the Radiance references' settings, about
+    /// 1 % per sensor in the example rooms): the studies' default.
+    pub fn main_job() -> Sampling {
+        Sampling {
+            ab: 5,
+            ad: 10000,
+            lw: 1e-5,
+            ..Sampling::default()
+        }
+    }
+}
+
 impl Default for Sampling {
     /// rcontrib's defaults.
     fn default() -> Self {
