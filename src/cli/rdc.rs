@@ -440,6 +440,7 @@ impl Options {
             (Some(mf), _) => Target::Sky {
                 mf,
                 direct_only: self.direct,
+                below_horizon: false,
             },
             (None, Some(s)) => Target::Suns {
                 suns: SunSource::parse(s),

@@ -169,9 +169,11 @@ pub struct StepSky {
 /// Which Radiance program's Perez sky a measured step gets. The two apply the same
 /// published models (Perez 1990 efficacy, Perez 1993 luminance) but build the sky
 /// differently, by up to several percent of a room's illuminance (measured:
-/// `radiance-fixtures/calib/README.md`, issue 22). rcalib uses gendaymtx's (the default);
-/// gendaylit's, as coefficients can carry it, is kept for that comparison
-/// (`crates/calib/tests/forward.rs`) until its ground bin is resolved (see the README).
+/// `radiance-fixtures/calib/README.md`, issue 22). rcalib uses gendaymtx's (the default),
+/// which its own synthetic readings (`rcalib synth`) are made with; against readings of
+/// gendaylit skies (`gendaylit | rtrace -I` truths) use gendaylit's as the scene sees it,
+/// [`step_skies_seen`] (per step within 0.3 % of real Radiance,
+/// `crates/calib/tests/forward.rs`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum StepSkyModel {
     /// gendaylit `-W dni dhi` (or `-G`/`-L` by the weather file's units), as a point-in-time
@@ -204,6 +206,23 @@ const GROUND_SAMPLES: usize = 32;
 /// gendaylit writes its "error sky" (sun below the horizon for the date, Perez b > 0) gets
 /// gendaymtx's sky instead: gendaylit's is black, which no reading can be compared with.
 pub fn step_skies_with(w: &Weather, idx: &[usize], mf: usize, model: StepSkyModel) -> Vec<StepSky> {
+    build_step_skies(w, idx, mf, model, None)
+}
+
+/// gendaylit's skies ([`StepSkyModel::Gendaylit`]) with each bin averaged over the
+/// directions the scene's paths take into it ([`SeenSky`]) rather than uniformly: the
+/// sky that reproduces a point-in-time `gendaylit | rtrace -I` run of the scene.
+pub fn step_skies_seen(w: &Weather, idx: &[usize], mf: usize, seen: &SeenSky) -> Vec<StepSky> {
+    build_step_skies(w, idx, mf, StepSkyModel::Gendaylit, Some(seen))
+}
+
+fn build_step_skies(
+    w: &Weather,
+    idx: &[usize],
+    mf: usize,
+    model: StepSkyModel,
+    seen: Option<&SeenSky>,
+) -> Vec<StepSky> {
     let patches = SkyPatches::new(mf);
     let steps = time_steps(w);
     let site = &w.site;
@@ -237,13 +256,15 @@ pub fn step_skies_with(w: &Weather, idx: &[usize], mf: usize, model: StepSkyMode
                 .then(|| gendaylit_step(site, st))
                 .flatten()
             {
-                sky.sky = (0..patches.len())
-                    .map(|i| {
-                        let n = if i == 0 { GROUND_SAMPLES } else { BIN_SAMPLES };
-                        g.bin_radiance(&patches, i, n)
-                    })
-                    .flat_map(|x| [x, x, x])
-                    .collect();
+                let uniform = |i: usize| {
+                    let n = if i == 0 { GROUND_SAMPLES } else { BIN_SAMPLES };
+                    g.bin_radiance(&patches, i, n)
+                };
+                let bins = match seen {
+                    Some(seen) => seen.bin_radiances(&patches, |d| g.radiance(d), uniform),
+                    None => (0..patches.len()).map(uniform).collect(),
+                };
+                sky.sky = bins.into_iter().flat_map(|x| [x, x, x]).collect();
                 sky.sun_radiance = g.solar.unwrap_or(0.0);
                 sky.clearness = g.epsilon;
                 return sky;
@@ -288,6 +309,98 @@ fn gendaylit_step(site: &crate::formats::weather::Site, st: &TimeStep) -> Option
         &opts,
     ))
     .filter(|g| !g.error)
+}
+
+/// Reinhart subdivision at which [`SeenSky`] resolves where paths escape: rows of 3.2 deg,
+/// fine against `perezlum.cal`'s horizon blend, whose ground share falls from 45 % at the
+/// horizon to 10 % at 6 deg (`(Dz + 1.01)^10` weights) and whose sky share below the
+/// horizon is gone by -17 deg.
+pub const SEEN_MF: usize = 4;
+/// Directions per side when averaging a sky over one [`SEEN_MF`] patch.
+const SEEN_SAMPLES: usize = 4;
+
+/// Where a scene's sensor paths escape to the sky and ground, per [`SEEN_MF`] patch (columns
+/// `0..n` above the horizon, `n..2n` below it as the mirror images of the patches): each
+/// sensor's escapes as fractions of its own total, summed over the sensors.
+///
+/// Why: a daylight coefficient is the light of its bin per unit radiance of the bin, so
+/// the radiance to give a bin is the mean over the directions the paths actually take into
+/// it, not over its solid angle. That matters where the sky varies inside a bin: the one
+/// ground bin under gendaylit (`perezlum.cal` blends sky into ground below the horizon: 1.5
+/// to 2 x the ground brightness A2 just below it, A2 further down), and the lowest sky row
+/// (45 % ground at the horizon, 10 % at 6 deg). A room with an exterior ground polygon
+/// sends its downward paths past the polygon's edge only, 0 to -5 deg in the example
+/// office, so the solid-angle mean of the lower hemisphere (mostly A2) made its sensors
+/// 0.7-4.3 % low against `gendaylit | rtrace -I` (issue 22, `radiance-fixtures/calib`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct SeenSky {
+    pub weights: Vec<f64>,
+}
+
+impl SeenSky {
+    /// From the values of a [`What::Seen`] run, `[s][p][c]` with `2 n` columns.
+    pub fn from_run(values: &[f64], nsens: usize) -> SeenSky {
+        let ncol = 2 * SkyPatches::new(SEEN_MF).len();
+        let mut weights = vec![0.0; ncol];
+        for s in 0..nsens {
+            let row: Vec<f64> = (0..ncol)
+                .map(|p| lux(&values[(s * ncol + p) * 3..][..3]))
+                .collect();
+            let total: f64 = row.iter().sum();
+            if total > 0.0 {
+                for (w, v) in weights.iter_mut().zip(&row) {
+                    *w += v / total;
+                }
+            }
+        }
+        SeenSky { weights }
+    }
+
+    /// The radiance of every bin of `patches` under the sky `radiance(dir)`: the mean over
+    /// the escape directions of [`SeenSky::weights`] that fall into the bin (each fine
+    /// patch sampled evenly); `uniform(bin)` where no path escapes into a bin.
+    pub fn bin_radiances(
+        &self,
+        patches: &SkyPatches,
+        radiance: impl Fn([f64; 3]) -> f64,
+        uniform: impl Fn(usize) -> f64,
+    ) -> Vec<f64> {
+        let fine = SkyPatches::new(SEEN_MF);
+        let n = fine.len();
+        let mut num = vec![0.0; patches.len()];
+        let mut den = vec![0.0; patches.len()];
+        let k = 1.0 / SEEN_SAMPLES as f64;
+        for (p, &w) in self.weights.iter().enumerate() {
+            // Column 0 (the ground of the upper half) and n (its mirror) stay empty.
+            if w <= 0.0 || p % n == 0 {
+                continue;
+            }
+            let ws = w * k * k;
+            for a in 0..SEEN_SAMPLES {
+                for b in 0..SEEN_SAMPLES {
+                    let mut d = fine.sample(p % n, (a as f64 + 0.5) * k, (b as f64 + 0.5) * k);
+                    if p >= n {
+                        d[2] = -d[2];
+                    }
+                    let bin = patches.bin_of(d);
+                    num[bin] += ws * radiance(d);
+                    den[bin] += ws;
+                }
+            }
+        }
+        // A bin that only a sliver of the escapes reach keeps its solid-angle mean: its
+        // coefficient is as small, and its seen mean as noisy.
+        let total: f64 = den.iter().sum();
+        (0..patches.len())
+            .map(|i| {
+                if den[i] > 1e-6 * total {
+                    num[i] / den[i]
+                } else {
+                    uniform(i)
+                }
+            })
+            .collect()
+    }
 }
 
 /// A `.wea` holding only the steps `idx` of `w` (for `rdc --suns`).
@@ -339,6 +452,9 @@ pub enum What {
     Sky { direct_only: bool },
     /// The measured steps' suns (`bounces`: with inter-reflection, `Vsun`).
     Suns { bounces: bool },
+    /// Where the paths escape, at [`SEEN_MF`]: sky coefficients with the lower hemisphere
+    /// resolved too (`Target::Sky { below_horizon }`), for [`SeenSky`].
+    Seen,
 }
 
 impl Kind {
@@ -359,6 +475,7 @@ impl Kind {
             What::Suns { bounces } => {
                 format!("--suns SUNS{}", if bounces { " --suns-ab" } else { "" })
             }
+            What::Seen => format!("-m {SEEN_MF} --below-horizon"),
         };
         if self.channels != Channels::rgb() {
             let c = &self.channels;
@@ -474,6 +591,12 @@ impl Simulator {
             What::Sky { direct_only } => Target::Sky {
                 mf: settings.mf,
                 direct_only,
+                below_horizon: false,
+            },
+            What::Seen => Target::Sky {
+                mf: SEEN_MF,
+                direct_only: false,
+                below_horizon: true,
             },
             What::Suns { bounces } => Target::Suns {
                 suns: SunSource::Steps(self.suns.clone()),
@@ -512,6 +635,20 @@ impl Simulator {
             sun,
             sun_total,
         })
+    }
+
+    /// Where the sensors' paths escape in `scene` ([`SeenSky`]): one sky-coefficient run
+    /// at [`SEEN_MF`] with the lower hemisphere resolved (cached like the others).
+    pub fn seen_sky(&self, scene: &Scene) -> Result<SeenSky> {
+        let v = self.run(&scene.to_string(), &Kind::rgb(What::Seen))?;
+        let n = self.rays.len() * 2 * SkyPatches::new(SEEN_MF).len() * 3;
+        if v.len() != n {
+            return Err(Error::Mismatch(format!(
+                "rdc returned {} values for the escape directions, expected {n}",
+                v.len()
+            )));
+        }
+        Ok(SeenSky::from_run(&v, self.rays.len()))
     }
 
     /// `Vsun` of a scene (see [`Simulator::sun_total`]), `[s][t][c]`.

@@ -7,14 +7,17 @@
 //! - `truths_converge_far_below_the_differences_tested`: the two runs of every step agree
 //!   to well within the 3.7-4.6 % reported (measured: per-step mean of the per-sensor
 //!   run differences at most 0.3 %).
-//! - `per_step_table` (ignored: it traces the coefficients, ~1 CPU-minute in release) prints
-//!   the per-step, per-sensor error of the simulator with each [`StepSkyModel`]. Measured
-//!   (office, MF 1, `Settings::truth`): gendaymtx's sky +1.2 to +2.2 % per step (back
-//!   sensors +3 to +6 %), faint-sun steps 0.6-1.0 % below the overcast ones; gendaylit's sky
-//!   averaged per bin -0.7 to -4.3 %. Not yet within the noise: see the README there.
+//! - `per_step_table_within_the_known_bound` (ignored: it traces the coefficients, 12 s in
+//!   release with an empty cache) prints the per-step, per-sensor error of the simulator
+//!   with each sky and asserts the one that matches gendaylit: gendaylit's sky with every
+//!   bin averaged over the directions the scene's paths take into it
+//!   ([`step_skies_seen`]). Measured (office, `Settings::truth`), step means: gendaymtx's
+//!   sky +0.5 to +2.2 %; gendaylit's averaged per bin's solid angle -0.7 to -4.3 %; averaged
+//!   over the escapes -0.29 to +0.21 % (MF 1, sensors -1.8 to +3.0 %) and -0.16 to +0.18 %
+//!   (MF 4, sensors within 1.2 %).
 use rdaylight_calib::inputs::load_sensors;
 use rdaylight_calib::simulate::{
-    Components, Settings, Simulator, StepSkyModel, step_skies_with, subset_wea,
+    Components, Settings, Simulator, StepSkyModel, step_skies_seen, step_skies_with, subset_wea,
 };
 use rdaylight_formats::scene::{LoadOptions, load};
 use rdaylight_formats::weather::Weather;
@@ -77,10 +80,14 @@ fn truths_converge_far_below_the_differences_tested() {
 #[test]
 #[ignore = "traces the coefficients (about a CPU-minute in release); prints the table"]
 fn per_step_table_within_the_known_bound() {
-    // The default (gendaymtx) step sky measured +0.5 to +2.2 % per step mean against real
-    // gendaylit + rtrace (issue 22: gendaylit's ground jump at DNI > 0 and its horizon blend
-    // are not modelled yet). This guards that state: a step mean beyond 3 % fails.
+    // gendaylit's sky seen as the scene's paths see it must match real gendaylit + rtrace
+    // per step. Bound: the truths' own noise (their two runs' step means differ by up to
+    // 0.3 %, the coefficients are sampled to 0.5 % per sensor) plus a 0.7 % budget; the
+    // measured worst step is 0.29 % (MF 1). Per sensor 4 %: one escape profile serves all
+    // sensors, and at MF 1 a 12 deg bin hides how each sees the horizon (measured worst
+    // +3.0 %, sensor 5; 1.2 % at MF 4).
     let mut worst: f64 = 0.0;
+    let mut worst_sensor: f64 = 0.0;
     let dir = fixtures();
     let t = truths();
     for scene_name in ["office", "office_open"] {
@@ -113,9 +120,18 @@ fn per_step_table_within_the_known_bound() {
         )
         .unwrap();
         let d = sim.dcs(&scene).unwrap();
-        for model in [StepSkyModel::Gendaymtx, StepSkyModel::Gendaylit] {
-            eprintln!("{scene_name}, {model:?} sky, MF {mf}: per-sensor error %, step mean");
-            let skies = step_skies_with(&w, &idx, mf, model);
+        let seen = sim.seen_sky(&scene).unwrap();
+        for (name, seen_model) in [
+            ("gendaymtx", None),
+            ("gendaylit (solid-angle mean per bin)", Some(false)),
+            ("gendaylit (mean over the escapes)", Some(true)),
+        ] {
+            eprintln!("{scene_name}, {name} sky, MF {mf}: per-sensor error %, step mean");
+            let skies = match seen_model {
+                None => step_skies_with(&w, &idx, mf, StepSkyModel::Gendaymtx),
+                Some(false) => step_skies_with(&w, &idx, mf, StepSkyModel::Gendaylit),
+                Some(true) => step_skies_seen(&w, &idx, mf, &seen),
+            };
             let ours = Components::new(&d, &skies).total();
             for (k, sk) in skies.iter().enumerate() {
                 let mut line = format!(
@@ -130,14 +146,22 @@ fn per_step_table_within_the_known_bound() {
                     let truth = 0.5 * (r.runs[0] + r.runs[1]);
                     let e = ours[(r.sensor - 1) * skies.len() + k] / truth - 1.0;
                     mean += e / sensors.len() as f64;
+                    if seen_model == Some(true) && scene_name == "office" {
+                        worst_sensor = worst_sensor.max(e.abs());
+                    }
                     line += &format!(" {:+.1}", 100.0 * e);
                 }
                 eprintln!("{line} | {:+.2}", 100.0 * mean);
-                if model == StepSkyModel::Gendaymtx && scene_name == "office" {
+                if seen_model == Some(true) && scene_name == "office" {
                     worst = worst.max(mean.abs());
                 }
             }
         }
     }
-    assert!(worst < 0.03, "worst step mean {:+.2} %", 100.0 * worst);
+    assert!(worst < 0.01, "worst step mean {:.2} %", 100.0 * worst);
+    assert!(
+        worst_sensor < 0.04,
+        "worst sensor {:.2} %",
+        100.0 * worst_sensor
+    );
 }

@@ -207,6 +207,7 @@ pub fn coefficients(
     eye_cfg.target = Target::Sky {
         mf,
         direct_only: true,
+        below_horizon: false,
     };
     let eye_direct = Tracer::new(&eye_cfg, scene)?.compute(&eye)?;
     let mut sun_cfg = Config {

@@ -149,8 +149,16 @@ pub enum Target {
     Values,
     /// Sky-patch coefficients over the Reinhart MF patches (146 columns at MF 1, ground
     /// first; rcontrib `-e MF:N -f reinhart.cal -b rbin`); `direct_only`: the direct-only
-    /// coefficients C_dcd of the five-phase method.
-    Sky { mf: usize, direct_only: bool },
+    /// coefficients C_dcd of the five-phase method. `below_horizon`: twice the columns, the
+    /// second half the lower hemisphere resolved as the mirror image (z -> -z) of the
+    /// patches (the ground column 0 stays empty): where, in altitude and azimuth, a scene's
+    /// paths escape into the one ground column, so that a ground whose radiance varies
+    /// (gendaylit's horizon blend, `perezlum.cal`) can be averaged as this scene sees it.
+    Sky {
+        mf: usize,
+        direct_only: bool,
+        below_horizon: bool,
+    },
     /// Sun coefficients: one column per sun (solid angle of `angle_deg` in diameter);
     /// `bounces`: with inter-reflection, every sun from one set of paths.
     Suns {
@@ -166,6 +174,7 @@ impl Target {
         Target::Sky {
             mf,
             direct_only: false,
+            below_horizon: false,
         }
     }
 

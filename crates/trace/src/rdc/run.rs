@@ -326,9 +326,18 @@ impl Tracer {
     /// and seed.
     pub fn job(&self) -> Job<'_> {
         let mode = match (&self.config.target, &self.patches, &self.suns) {
-            (Target::Sky { direct_only, .. }, Some(p), _) => Mode::Sky {
+            (
+                Target::Sky {
+                    direct_only,
+                    below_horizon,
+                    ..
+                },
+                Some(p),
+                _,
+            ) => Mode::Sky {
                 patches: p,
                 direct_only: *direct_only,
+                below_horizon: *below_horizon,
             },
             (Target::Suns { bounces, .. }, _, Some(s)) => Mode::Suns {
                 suns: s,

@@ -168,6 +168,7 @@ impl Estimator for Traced {
                 Mode::Sky {
                     patches,
                     direct_only,
+                    below_horizon,
                 },
             ) => {
                 let params = if *direct_only {
@@ -201,7 +202,12 @@ impl Estimator for Traced {
                     rng,
                     track,
                     &mut |e, beta, events| {
-                        let bin = patches.bin_of(e.to_array());
+                        let d = e.to_array();
+                        let bin = if *below_horizon && d[2] < 0.0 {
+                            patches.len() + patches.bin_of([d[0], d[1], -d[2]])
+                        } else {
+                            patches.bin_of(d)
+                        };
                         if track.is_some() {
                             add_term(tally, bin, &beta, scale, *events, &mut buf);
                         } else {

@@ -102,6 +102,9 @@ pub enum Mode<'a> {
     Sky {
         patches: &'a SkyPatches,
         direct_only: bool,
+        /// Columns `len..2 len`: escapes below the horizon binned by their mirror image
+        /// (z -> -z), the lower hemisphere resolved as the sky ([`crate::rdc::Target::Sky`]).
+        below_horizon: bool,
     },
     /// Sun coefficients: column `i` is the unit-radiance disc `suns[i]`, seen directly, or
     /// with `bounces` also through every inter-reflection up to `-ab` (`--suns-ab`).
@@ -115,7 +118,11 @@ impl Mode<'_> {
     /// Number of columns of every record.
     pub fn ncols(&self) -> usize {
         match self {
-            Mode::Sky { patches, .. } => patches.len(),
+            Mode::Sky {
+                patches,
+                below_horizon,
+                ..
+            } => patches.len() * if *below_horizon { 2 } else { 1 },
             Mode::Suns { suns, .. } => suns.len(),
             Mode::Values => 1,
         }
