@@ -239,7 +239,7 @@ fn bad_readings_are_reported_with_their_csv_line() {
         ),
         (
             "month,day,hour,sensor,lux\n6,21,12.5,a,-4\n",
-            "m.csv:2: negative illuminance -4 lx",
+            "m.csv:2: negative illuminance -4 for lux; expected a value >= 0",
         ),
         (
             "month,day,hour,sensor,lux\n6,21,12.5,a,\n",
