@@ -126,7 +126,7 @@ fn escape_controls(s: &str) -> String {
 /// Every message as it is printed (issue #19: errors echoed whole binary lines and 50 KB
 /// tokens). Errors are built in hundreds of places, most of them quoting what they found
 /// as `'...'`; this is the one place that bounds them all: a quoted span (opened by a `'`
-/// that does not follow a letter or digit, closed by one not followed by one, so the
+/// after a blank or an opening bracket, closed by one not followed by a letter or digit, so the
 /// apostrophe of "rtrace's" is not a quote) longer than [`MAX_QUOTED`] is cut, then any
 /// word longer than `MAX_WORD` and the whole message beyond `MAX_MESSAGE`.
 fn readable(msg: &str) -> std::borrow::Cow<'_, str> {
@@ -139,7 +139,11 @@ fn readable(msg: &str) -> std::borrow::Cow<'_, str> {
     let mut out = String::with_capacity(msg.len().min(2 * MAX_MESSAGE));
     let mut i = 0;
     while i < chars.len() {
-        let opens = chars[i] == '\'' && (i == 0 || !alnum(i - 1));
+        // A quote opens after a blank, the start or an opening bracket, `=`, `:` or `,`,
+        // never right after another quote: a quoted command that ends in its own quote
+        // (`'!echo 'x''`) must not open a span over the rest of the message.
+        let opens = chars[i] == '\''
+            && (i == 0 || chars[i - 1].is_whitespace() || "([{=:,".contains(chars[i - 1]));
         let close = opens
             .then(|| (i + 1..chars.len()).find(|&j| chars[j] == '\'' && !alnum(j + 1)))
             .flatten();
@@ -222,6 +226,14 @@ impl<T> IoContext<T> for std::io::Result<T> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_quote_ending_in_a_quote_opens_no_span_over_the_rest() {
+        let tail = " (--no-exec is set); run the command yourself and put its output in place \
+                    of the '!' line";
+        let msg = format!("s.rad:3: refused to run '!echo 'x sphere s 0 0 4 0 0 0 1''{tail}");
+        assert_eq!(Error::Usage(msg.clone()).to_string(), msg);
+    }
 
     #[test]
     fn quoted_input_is_cut_and_escaped() {
