@@ -67,3 +67,22 @@ pub fn write_atomically(
     }
     result
 }
+
+/// The end of a streamed atomic write (rdc's `--reweight` and `--se-out` files, written row
+/// by row to [`temp_beside`]): `closed` is the outcome of flushing and closing the
+/// temporary file; then it is renamed over `path`. On any failure the temporary file is
+/// removed, so nothing half-written stays behind (issue #19: a target that could not be
+/// replaced left `.part` files).
+pub fn replace_with(
+    tmp: &std::path::Path,
+    path: &str,
+    closed: std::io::Result<()>,
+) -> Result<(), Error> {
+    let done = closed
+        .and_then(|()| std::fs::rename(tmp, path))
+        .map_err(|e| Error::io(path, e));
+    if done.is_err() {
+        let _ = std::fs::remove_file(tmp);
+    }
+    done
+}

@@ -336,19 +336,9 @@ impl SeWriter {
     /// Flush and move the file into place (only a complete run replaces the old file).
     pub fn finish(mut self) -> Result<()> {
         if let Some((path, tmp, w)) = self.inner.take() {
-            let done = w
-                .into_inner()
-                .map_err(|e| e.into_error())
-                .and_then(|f| {
-                    drop(f);
-                    std::fs::rename(&tmp, &path)
-                })
-                .map_err(|e| Error::io(path.as_str(), e));
-            // Taken from the guard: a failed flush or rename removes the file here.
-            if done.is_err() {
-                let _ = std::fs::remove_file(&tmp);
-            }
-            done?;
+            // Dropping the file closes it before the rename.
+            let closed = w.into_inner().map_err(|e| e.into_error()).map(drop);
+            crate::io::replace_with(&tmp, &path, closed)?;
         }
         Ok(())
     }

@@ -986,19 +986,9 @@ impl ReweightFile {
     fn finish(mut self) -> Result<()> {
         if let Some((path, tmp, w)) = self.inner.take() {
             let mut f = w.into_inner();
-            let done = f
-                .flush()
-                .and_then(|()| {
-                    drop(f);
-                    std::fs::rename(&tmp, &path)
-                })
-                .map_err(|e| Error::io(path.as_str(), e));
-            // The guard no longer holds the temporary file: a failed flush or rename (the
-            // target is a directory, issue #19) must remove it here.
-            if done.is_err() {
-                let _ = std::fs::remove_file(&tmp);
-            }
-            done?;
+            let closed = f.flush();
+            drop(f);
+            crate::io::replace_with(&tmp, &path, closed)?;
         }
         Ok(())
     }
