@@ -139,6 +139,25 @@ fn unbounded_counts_are_refused_with_the_limit() {
         e.contains("--samples 1000000000000: at most 10000000"),
         "{e}"
     );
+    // The smaller counts: each names its limit.
+    for (tool, args, limit) in [
+        (
+            "ruplift",
+            &["rgb", "--table-res", "1000", "0.5", "0.5", "0.5"][..],
+            "128",
+        ),
+        ("rcalib", &["synth", "--steps", "100000"][..], "8784"),
+        (
+            "rrecon",
+            &["--target-points", "1000000000", "x.ply"][..],
+            "100000000",
+        ),
+        ("rmtx", &["--ncomp", "5000", "x.mtx"][..], "1024"),
+        ("rmtx", &["--ncols", "99999999999", "x.mtx"][..], "10000000"),
+    ] {
+        let e = one_line_error(tool, args, b"");
+        assert!(e.contains(&format!("the limit {limit}")), "{tool}: {e}");
+    }
 }
 
 /// `!yes` in a scene made rinfo run out of memory: an inline command's output is capped

@@ -66,6 +66,17 @@ pub fn finite(s: &str) -> Result<f64, String> {
     }
 }
 
+/// clap's parser for a count with an upper bound (issue #19: every count a user can type is
+/// bounded): a whole number from 0 to `MAX`; the option's help says why its bound is what
+/// it is.
+pub fn at_most<const MAX: usize>(s: &str) -> Result<usize, String> {
+    match s.trim().parse::<usize>() {
+        Ok(v) if v <= MAX => Ok(v),
+        Ok(v) => Err(format!("{v} is more than the limit {MAX}")),
+        Err(_) => Err(format!("expected a whole number from 0 to {MAX}")),
+    }
+}
+
 /// `command` without the options `names` and their values (either spelling: `--x v` or
 /// `--x=v`), up to a `--`. Options that only say which piece of a run this is (`--shard`,
 /// `--hours`, `--manifest`) are left out of headers, so every piece names the whole run's

@@ -211,8 +211,9 @@ pub struct ExplainArgs {
     #[arg(long)]
     pub effects_out: Option<PathBuf>,
     /// Rounds of refinement: apply the kept effects, re-simulate, and fit them again with
-    /// the coefficient model corrected by that re-simulation (0: none).
-    #[arg(long, default_value_t = cases::REFINE_ROUNDS)]
+    /// the coefficient model corrected by that re-simulation (0: none; at most 10, each round
+    /// is a full re-simulation).
+    #[arg(long, default_value_t = cases::REFINE_ROUNDS, value_parser = super::at_most::<10>)]
     pub refine: usize,
     #[arg(long)]
     pub report: Option<PathBuf>,
@@ -262,8 +263,8 @@ pub struct SynthArgs {
     /// Hidden effects NAME:params (none: a control case).
     #[arg(long = "effect")]
     pub effects: Vec<String>,
-    /// Measured time steps.
-    #[arg(long, default_value_t = 30)]
+    /// Measured time steps (at most 8784, a leap year of hours).
+    #[arg(long, default_value_t = 30, value_parser = super::at_most::<8784>)]
     pub steps: usize,
     /// Seed of the sensor noise.
     #[arg(long, default_value_t = 1)]

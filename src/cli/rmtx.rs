@@ -121,12 +121,13 @@ pub struct Options {
     #[arg(short = 'i', value_name = "a|f|d")]
     pub iformat: Option<String>,
 
-    /// NCOMP of inputs without a header (default 3).
-    #[arg(long = "ncomp", value_name = "N")]
+    /// NCOMP of inputs without a header (default 3; at most 1024 bands).
+    #[arg(long = "ncomp", value_name = "N", value_parser = super::at_most::<1024>)]
     pub ncomp: Option<usize>,
 
-    /// NCOLS of inputs without a header (headerless ascii: inferred from the first line).
-    #[arg(long = "ncols", value_name = "N")]
+    /// NCOLS of inputs without a header (headerless ascii: inferred from the first line; at
+    /// most 10 million, a minute-by-minute decade).
+    #[arg(long = "ncols", value_name = "N", value_parser = super::at_most::<10_000_000>)]
     pub ncols: Option<usize>,
 
     /// Print help.

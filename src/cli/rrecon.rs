@@ -109,11 +109,11 @@ pub struct Recon {
     /// Crop box x0,y0,z0,x1,y1,z1 (metres, after unit conversion).
     #[arg(long)]
     pub crop: Option<String>,
-    /// Points kept after voxel down-sampling (seed: ~100,000).
-    #[arg(long, default_value_t = 100_000)]
+    /// Points kept after voxel down-sampling (seed: ~100,000; at most 100 million).
+    #[arg(long, default_value_t = 100_000, value_parser = super::at_most::<100_000_000>)]
     pub target_points: usize,
-    /// RANSAC minimum support (seed: 1,000-4,000).
-    #[arg(long, default_value_t = 1000)]
+    /// RANSAC minimum support (seed: 1,000-4,000; at most 100 million).
+    #[arg(long, default_value_t = 1000, value_parser = super::at_most::<100_000_000>)]
     pub min_support: usize,
     /// RANSAC distance threshold, metres (seed: 0.005).
     #[arg(value_parser = super::finite, long, default_value_t = 0.005)]

@@ -71,8 +71,9 @@ pub struct Common {
     /// else build it (--table-res) and save it there. Lookups start the fit near the answer.
     #[arg(long, value_name = "FILE")]
     pub table: Option<PathBuf>,
-    /// Resolution of a table being built (entries per axis; 3 res^3 fits).
-    #[arg(long, default_value_t = 32, value_name = "N")]
+    /// Resolution of a table being built (entries per axis; 3 res^3 fits, so at most 128:
+    /// 6.3 million fits).
+    #[arg(long, default_value_t = 32, value_name = "N", value_parser = super::at_most::<128>)]
     pub table_res: usize,
 }
 
@@ -141,8 +142,9 @@ pub struct ProxyArgs {
     /// Variogram model fitted to the points' illuminance.
     #[arg(long, value_enum, default_value = "spherical")]
     pub variogram: VariogramArg,
-    /// Half width of the window averaged at each known point (pixels of the same material).
-    #[arg(long, default_value_t = 1)]
+    /// Half width of the window averaged at each known point (pixels of the same material;
+    /// at most 64: a 129-pixel square is already a region, not a point).
+    #[arg(long, default_value_t = 1, value_parser = super::at_most::<64>)]
     pub window: usize,
     /// Drop reflectances below the 5th and above the 95th percentile of each region.
     #[arg(long)]
@@ -201,8 +203,8 @@ pub struct PhotoArgs {
 
 #[derive(clap::Args, Debug)]
 pub struct MaterialOut {
-    /// Drop mask pixels within N pixels of another material (mixed edge pixels).
-    #[arg(long, default_value_t = 1, value_name = "N")]
+    /// Drop mask pixels within N pixels of another material (mixed edge pixels; at most 64).
+    #[arg(long, default_value_t = 1, value_name = "N", value_parser = super::at_most::<64>)]
     pub erode: usize,
     /// Write each material as a spectrum (uplifted with --method) + plastic instead of an
     /// RGB plastic.
