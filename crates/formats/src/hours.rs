@@ -39,6 +39,7 @@
 
 use crate::error::{Error, Result};
 use crate::header::Header;
+use crate::shard::identity;
 use crate::shard::{InputSum, RunId, Shard, read_json, same_run, write_json};
 use serde::{Deserialize, Serialize};
 use std::ops::Range;
@@ -135,17 +136,6 @@ impl HoursInfo {
     }
 }
 
-/// The header lines that identify a product: all but `HOURS=`, `NCOLS=` and the dates.
-fn identity(header: &Header) -> Vec<&str> {
-    const SKIP: [&str; 4] = ["HOURS=", "NCOLS=", "CAPDATE=", "GMT="];
-    header
-        .lines
-        .iter()
-        .filter(|l| !SKIP.iter().any(|s| l.starts_with(s)))
-        .map(|l| l.trim_end())
-        .collect()
-}
-
 /// Check that `chunks` (name, header) are hour chunks of one product whose hours tile
 /// `0..TOTAL` in the order given, each with `NCOLS=` its hours; return the whole product's
 /// header (chunk 0's, `HOURS=` removed, `NCOLS=TOTAL` in place) and each chunk's hours.
@@ -171,7 +161,7 @@ pub fn merged_header(chunks: &[(String, Header)]) -> Result<(Header, Vec<HoursIn
         }
         infos.push(info);
     }
-    let id0 = identity(h0);
+    let id0 = identity(h0, ["HOURS=", "NCOLS="]);
     let total = infos[0].total;
     for ((name, h), info) in chunks.iter().zip(&infos) {
         if info.total != total {
@@ -180,7 +170,7 @@ pub fn merged_header(chunks: &[(String, Header)]) -> Result<(Header, Vec<HoursIn
                 info.total
             )));
         }
-        if identity(h) != id0 {
+        if identity(h, ["HOURS=", "NCOLS="]) != id0 {
             return Err(Error::Mismatch(format!(
                 "{name} and {name0} come from different products (their headers differ \
                  beyond {HOURS_VAR}=, NCOLS= and the dates: command, NROWS, NCOMP or format)"

@@ -153,13 +153,19 @@ fn nrows_line(header: &Header) -> Option<usize> {
     header.lines.iter().position(|l| l.starts_with("NROWS="))
 }
 
-/// The header lines that identify a run: all but `SHARD=`, `NROWS=` and the dates.
-fn identity(header: &Header) -> Vec<&str> {
-    const SKIP: [&str; 4] = ["SHARD=", "NROWS=", "CAPDATE=", "GMT="];
+/// The header lines that identify a run whose pieces are being merged: all but the lines
+/// a piece changes (`piece`: `SHARD=` and `NROWS=` for row shards, `HOURS=` and `NCOLS=`
+/// for hour chunks) and the dates.
+pub(crate) fn identity<'a>(header: &'a Header, piece: [&str; 2]) -> Vec<&'a str> {
     header
         .lines
         .iter()
-        .filter(|l| !SKIP.iter().any(|s| l.starts_with(s)))
+        .filter(|l| {
+            !piece
+                .iter()
+                .chain(&["CAPDATE=", "GMT="])
+                .any(|s| l.starts_with(s))
+        })
         .map(|l| l.trim_end())
         .collect()
 }
@@ -187,9 +193,9 @@ pub fn merged_header(shards: &[(String, Header, usize)]) -> Result<Header> {
         .map(|((name, _, nrows), i)| (name.as_str(), *i, *nrows))
         .collect();
     check_pieces(&pieces, "rows")?;
-    let id0 = identity(h0);
+    let id0 = identity(h0, ["SHARD=", "NROWS="]);
     for (name, h, _) in shards {
-        if identity(h) != id0 {
+        if identity(h, ["SHARD=", "NROWS="]) != id0 {
             return Err(Error::Mismatch(format!(
                 "{name} and {name0} come from different runs (their headers differ beyond \
                  SHARD=, NROWS= and the dates)"

@@ -335,22 +335,36 @@ impl Pipeline {
     }
 }
 
+/// The inputs' headers when any of them carries the header variable `var` (the mark of a
+/// piece of a larger run: `SHARD=`, `HOURS=`), `None` for ordinary matrices. Pieces are
+/// merged from files only (their headers are read twice); `what` names them in the error.
+fn marked_headers(
+    inputs: &[String],
+    var: &str,
+    what: &str,
+) -> Result<Option<Vec<(String, Header)>>> {
+    let mut headers = Vec::new();
+    for p in inputs.iter().filter(|p| *p != "-") {
+        headers.push((p.clone(), read_header(p)?));
+    }
+    if !headers.iter().any(|(_, h)| h.get(var).is_some()) {
+        return Ok(None);
+    }
+    if inputs.iter().any(|p| p == "-") {
+        return Err(Error::Usage(format!(
+            "{what} are merged from files, not standard input"
+        )));
+    }
+    Ok(Some(headers))
+}
+
 impl Pipeline {
     /// With `--cat`: the inputs' headers and NROWS when they are `rdc --shard` outputs
     /// (any file with a `SHARD=` line), `None` for ordinary matrices.
     fn shard_headers(&self, inputs: &[String]) -> Result<Option<Vec<(String, Header, usize)>>> {
-        let mut headers = Vec::new();
-        for p in inputs.iter().filter(|p| *p != "-") {
-            headers.push((p.clone(), read_header(p)?));
-        }
-        if !headers.iter().any(|(_, h)| h.get(SHARD_VAR).is_some()) {
+        let Some(headers) = marked_headers(inputs, SHARD_VAR, "rdc shards")? else {
             return Ok(None);
-        }
-        if inputs.iter().any(|p| p == "-") {
-            return Err(Error::Usage(
-                "rdc shards are merged from files, not standard input".into(),
-            ));
-        }
+        };
         headers
             .into_iter()
             .map(|(p, h)| {
@@ -564,19 +578,7 @@ impl Pipeline {
     /// With `--cat-columns`: the inputs' headers when they are `rmtx --hours` chunks (any
     /// file with an `HOURS=` line), `None` for ordinary matrices.
     fn chunk_headers(&self, inputs: &[String]) -> Result<Option<Vec<(String, Header)>>> {
-        let mut headers = Vec::new();
-        for p in inputs.iter().filter(|p| *p != "-") {
-            headers.push((p.clone(), read_header(p)?));
-        }
-        if !headers.iter().any(|(_, h)| h.get(HOURS_VAR).is_some()) {
-            return Ok(None);
-        }
-        if inputs.iter().any(|p| p == "-") {
-            return Err(Error::Usage(
-                "rmtx --hours chunks are merged from files, not standard input".into(),
-            ));
-        }
-        Ok(Some(headers))
+        marked_headers(inputs, HOURS_VAR, "rmtx --hours chunks")
     }
 
     /// `rmtx --cat-columns` of `rmtx --hours` chunks: check they are the chunks of one
