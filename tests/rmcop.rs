@@ -100,11 +100,14 @@ fn reweighting_agrees_with_resimulation_within_the_noise() {
     let scene = scene::load(&[path("examples/room/room.rad")], &LoadOptions::default()).unwrap();
     let weather = rdaylight::formats::weather::Weather::read_path(path(EPW)).unwrap();
     let cfg = StudyConfig {
-        sampling: Sampling {
-            ab: 3,
-            ad: 1024,
-            lw: 1e-4,
-            ..Sampling::default()
+        trace: rdaylight::glod::study::StudyConfig {
+            sampling: Sampling {
+                ab: 3,
+                ad: 1024,
+                lw: 1e-4,
+                ..Sampling::default()
+            },
+            ..Default::default()
         },
         sigmas: vec![0.2],
         ..StudyConfig::default()

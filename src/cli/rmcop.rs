@@ -219,16 +219,18 @@ impl Inputs {
             })
             .collect::<Result<Vec<_>>>()?;
         let cfg = StudyConfig {
-            sampling: crate::rdc::Sampling {
-                ab: self.ab,
-                ad: self.ad,
-                lw: self.lw,
-                ..crate::rdc::Sampling::default()
+            trace: crate::glod::study::StudyConfig {
+                sampling: crate::rdc::Sampling {
+                    ab: self.ab,
+                    ad: self.ad,
+                    lw: self.lw,
+                    ..crate::rdc::Sampling::default()
+                },
+                mf: 1,
+                seed: self.seed,
+                occupied: crate::metrics::schedule::parse_range(&self.occupied)?,
+                threads: self.threads,
             },
-            mf: 1,
-            seed: self.seed,
-            occupied: crate::metrics::schedule::parse_range(&self.occupied)?,
-            threads: self.threads,
             sigmas: crate::mcop::classes::parse_sigmas(&self.sigmas)?,
             draws: self.draws,
             levels,
@@ -382,7 +384,7 @@ pub fn run(opts: &Options, out: &mut dyn Write) -> Result<()> {
                         version: env!("CARGO_PKG_VERSION").into(),
                         command: command_line(),
                         shard: shard.unwrap_or(Shard { index: 0, count: 1 }),
-                        seed: cfg.seed,
+                        seed: cfg.trace.seed,
                         first_row: rows.start,
                         rows: rows.len(),
                         total_rows: cfg.draws,

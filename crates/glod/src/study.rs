@@ -96,15 +96,9 @@ pub fn study(
     for level in 0..=crate::MAX_LEVEL {
         progress(&format!("GLoD{level}"));
         let sub = filter(scene, analysis, level)?;
-        let config = Config {
-            seed: cfg.seed,
-            threads: cfg.threads,
-            ..Config::sky_coefficients(cfg.mf, cfg.sampling)
-        };
         let t0 = std::time::Instant::now();
-        let rows = Tracer::new(&config, &sub)?.compute(sensors)?;
+        let tai = sky.traced_tai(&sub, sensors, cfg)?;
         let trace_seconds = t0.elapsed().as_secs_f64();
-        let tai: Vec<f64> = rows.iter().map(|r| sky.tai_of_row(&r.values)).collect();
         let room_tai = tai.iter().sum::<f64>() / tai.len() as f64;
         out.push(LevelResult {
             level,
@@ -206,6 +200,23 @@ impl OccupiedSky {
             sums,
             step_hours: schedule.step_hours,
         })
+    }
+
+    /// TAI (klx h) per sensor of `scene`, traced for sky coefficients (irradiance) with
+    /// `cfg`'s sampling, seed and threads: one level of the study, or one re-simulation.
+    pub fn traced_tai(
+        &self,
+        scene: &Scene,
+        sensors: &[SensorRay],
+        cfg: &StudyConfig,
+    ) -> Result<Vec<f64>> {
+        let config = Config {
+            seed: cfg.seed,
+            threads: cfg.threads,
+            ..Config::sky_coefficients(cfg.mf, cfg.sampling)
+        };
+        let rows = Tracer::new(&config, scene)?.compute(sensors)?;
+        Ok(rows.iter().map(|r| self.tai_of_row(&r.values)).collect())
     }
 
     /// TAI (klx h) of one sensor's coefficient row (`npatches * 3`), seed Eq. 4.1 / 1000.

@@ -71,13 +71,13 @@ impl LevelModel {
         sky: &OccupiedSky,
     ) -> Result<LevelModel> {
         let config = Config {
-            seed: cfg.seed,
-            threads: cfg.threads,
+            seed: cfg.trace.seed,
+            threads: cfg.trace.threads,
             reweight: Some(Reweight {
                 path: None,
                 materials: cfg.materials.clone(),
             }),
-            ..Config::sky_coefficients(cfg.mf, cfg.sampling)
+            ..Config::sky_coefficients(cfg.trace.mf, cfg.trace.sampling)
         };
         let t0 = std::time::Instant::now();
         let tracer = Tracer::new(&config, scene)?;

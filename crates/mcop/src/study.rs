@@ -17,11 +17,10 @@ use rdaylight_formats::scene::Scene;
 use rdaylight_formats::sensors::SensorRay;
 use rdaylight_formats::shard::{Manifest, Shard};
 use rdaylight_formats::weather::Weather;
-use rdaylight_glod::study::OccupiedSky;
+use rdaylight_glod::study::{OccupiedSky, StudyConfig as TraceConfig};
 use rdaylight_glod::{Analysis, filter::filter};
 use rdaylight_metrics::annual::{Thresholds, room_means, sensor_metrics};
 use rdaylight_metrics::compare::percentage_error;
-use rdaylight_trace::rdc::Sampling;
 use serde::{Deserialize, Serialize};
 
 /// Most draws per cell a user may ask for (the seed used 500): every draw's per-sensor
@@ -32,14 +31,9 @@ pub const MAX_DRAWS: usize = 100_000;
 /// Everything a study needs besides its inputs.
 #[derive(Debug, Clone, PartialEq)]
 pub struct StudyConfig {
-    pub sampling: Sampling,
-    /// Reinhart subdivision (1 = 146 patches).
-    pub mf: usize,
-    /// Seed of the traces and of the draws.
-    pub seed: u64,
-    /// Occupied `start <= hour < end`.
-    pub occupied: (f64, f64),
-    pub threads: Option<usize>,
+    /// How every level is traced and the year counted: rglod's study settings (sampling,
+    /// Reinhart MF, seed, occupied hours, threads); the seed also seeds the draws.
+    pub trace: TraceConfig,
     /// The MCoP sigmas (absolute reflectance/transmittance errors).
     pub sigmas: Vec<f64>,
     /// Draws per cell.
@@ -64,11 +58,7 @@ impl Default for StudyConfig {
     /// 8-18 h, the main job's `-ab 5 -ad 10000 -lw 1e-5`.
     fn default() -> Self {
         StudyConfig {
-            sampling: Sampling::main_job(),
-            mf: 1,
-            seed: 1,
-            occupied: (8.0, 18.0),
-            threads: None,
+            trace: TraceConfig::default(),
             sigmas: vec![0.05, 0.10, 0.15, 0.20],
             draws: 500,
             levels: vec![0, 1, 2, 3, 4],
@@ -151,7 +141,7 @@ pub fn prepare(
             classes::property(scene, n).map_err(|e| Error::Usage(format!("--materials: {e}")))?;
         }
     }
-    let sky = OccupiedSky::new(weather, cfg.mf, cfg.occupied)?;
+    let sky = OccupiedSky::new(weather, cfg.trace.mf, cfg.trace.occupied)?;
     let weighted = cfg.hourly.then(|| WeightedSky::new(&sky));
     let mut levels = Vec::new();
     let mut wanted = cfg.levels.clone();
@@ -249,7 +239,7 @@ pub fn draw_scales(p: &PreparedLevel, cfg: &StudyConfig, k: usize, draw: usize) 
         truncation: cfg.truncation,
         grouping: cfg.grouping,
     };
-    let values = mcop.draw(&p.props, cfg.seed, k, draw);
+    let values = mcop.draw(&p.props, cfg.trace.seed, k, draw);
     p.props
         .iter()
         .zip(values)
@@ -297,7 +287,7 @@ pub fn draws(prep: &Prepared, cfg: &StudyConfig) -> Vec<DrawRecord> {
         }
     };
     let run = || jobs.par_iter().map(one).collect::<Vec<_>>();
-    match cfg.threads {
+    match cfg.trace.threads {
         Some(n) => rayon::ThreadPoolBuilder::new()
             .num_threads(n)
             .build()

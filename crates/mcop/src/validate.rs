@@ -34,7 +34,6 @@ use rdaylight_glod::study::OccupiedSky;
 use rdaylight_physics::material::glass::{
     transmissivity_for_index, transmittance_from_transmissivity,
 };
-use rdaylight_trace::rdc::{Config, Tracer};
 use serde::Serialize;
 
 /// Figures of one sigma class.
@@ -102,6 +101,7 @@ pub fn rebuilt(scene: &Scene, props: &[classes::Property], drawn: &[f64]) -> Sce
     out
 }
 
+/// The TAI of one trace of `scene` with another seed (a noise run or a re-simulation).
 fn tai_of(
     scene: &Scene,
     sensors: &[SensorRay],
@@ -109,13 +109,11 @@ fn tai_of(
     seed: u64,
     sky: &OccupiedSky,
 ) -> Result<Vec<f64>> {
-    let config = Config {
+    let trace = rdaylight_glod::study::StudyConfig {
         seed,
-        threads: cfg.threads,
-        ..Config::sky_coefficients(cfg.mf, cfg.sampling)
+        ..cfg.trace.clone()
     };
-    let rows = Tracer::new(&config, scene)?.compute(sensors)?;
-    Ok(rows.iter().map(|r| sky.tai_of_row(&r.values)).collect())
+    sky.traced_tai(scene, sensors, &trace)
 }
 
 fn mean(v: &[f64]) -> f64 {
@@ -139,7 +137,7 @@ pub fn validate(
     }
     let nu = (noise_runs - 1) as f64;
     let t_rms = (nu / (nu - 2.0)).sqrt();
-    let sky = OccupiedSky::new(weather, cfg.mf, cfg.occupied)?;
+    let sky = OccupiedSky::new(weather, cfg.trace.mf, cfg.trace.occupied)?;
     progress("tracing with re-weighting records");
     let model = LevelModel::trace(scene, sensors, cfg, &sky)?;
     let props = model
@@ -156,7 +154,7 @@ pub fn validate(
             scene,
             sensors,
             cfg,
-            cfg.seed + 1_000_000 + j as u64,
+            cfg.trace.seed + 1_000_000 + j as u64,
             &sky,
         )?);
     }
@@ -186,14 +184,14 @@ pub fn validate(
         let (mut rw_rooms, mut rs_rooms) = (Vec::new(), Vec::new());
         for d in 0..draws {
             progress(&format!("sigma {sigma}: draw {}/{draws}", d + 1));
-            let drawn = mcop.draw(&props, cfg.seed, k, d);
+            let drawn = mcop.draw(&props, cfg.trace.seed, k, d);
             let scales: Vec<f64> = props.iter().zip(&drawn).map(|(p, &v)| p.scale(v)).collect();
             let t1 = std::time::Instant::now();
             let rw = model.tai(&scales);
             rw_time += t1.elapsed().as_secs_f64();
             rw_count += 1;
             let t2 = std::time::Instant::now();
-            let seed = cfg.seed + 2_000_000 + (k * draws + d) as u64;
+            let seed = cfg.trace.seed + 2_000_000 + (k * draws + d) as u64;
             let rs = tai_of(&rebuilt(scene, &props, &drawn), sensors, cfg, seed, &sky)?;
             resim_time += t2.elapsed().as_secs_f64();
             resims += 1;
