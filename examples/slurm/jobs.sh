@@ -1,6 +1,16 @@
 #!/bin/bash
 # Shared by run.sh and resume.sh (sourced): wait for Slurm jobs without an accounting
-# database (squeue while they are known, scontrol for the final state: sacct needs one).
+# database (squeue while they are known, scontrol for the final state: sacct needs one),
+# and the settings both take from the environment, with their defaults.
+
+N=${N:-3}
+OUT=${OUT:-out/slurm}
+BIN=${BIN:-target/release}
+ROOM=${ROOM:-examples/room}
+SENSORS=${SENSORS:-$ROOM/sensors.pts}
+RDC_OPTS=${RDC_OPTS:--ab 5 -ad 10000 -lw 1e-5 -s 1}
+TIMEOUT=${TIMEOUT:-1800}
+export N OUT BIN ROOM SENSORS RDC_OPTS
 
 # wait_jobs TIMEOUT JOB...: wait until none of the jobs is queued or running; after TIMEOUT
 # seconds cancel them and fail.

@@ -9,14 +9,9 @@
 # used ($OUT/epoch). Exit status 0 when the merge completes and, if run.sh left the
 # unsharded dc.single.mtx, equals it byte for byte.
 set -euo pipefail
-N=${N:-3}
-OUT=${OUT:-out/slurm}
-BIN=${BIN:-target/release}
-ROOM=${ROOM:-examples/room}
-SENSORS=${SENSORS:-$ROOM/sensors.pts}
-RDC_OPTS=${RDC_OPTS:--ab 5 -ad 10000 -lw 1e-5 -s 1}
-TIMEOUT=${TIMEOUT:-1800}
-export N OUT BIN ROOM SENSORS RDC_OPTS
+HERE=$(dirname "$0")
+# shellcheck source=examples/slurm/jobs.sh
+source "$HERE/jobs.sh"
 if ! [ -d "$OUT" ]; then
     echo "slurm-resume: no $OUT: nothing to resume (run make slurm-example first)" >&2
     exit 1
@@ -25,9 +20,6 @@ if [ -f "$OUT/epoch" ]; then
     SOURCE_DATE_EPOCH=$(cat "$OUT/epoch")
     export SOURCE_DATE_EPOCH
 fi
-HERE=$(dirname "$0")
-# shellcheck source=examples/slurm/jobs.sh
-source "$HERE/jobs.sh"
 bash "$HERE/start.sh"
 export SLURM_CONF=${SLURM_HOME:-/tmp/rdaylight-slurm}/slurm.conf
 

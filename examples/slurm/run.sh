@@ -7,20 +7,12 @@
 # TIMEOUT (seconds, 1800), BIN (target/release). Exit status 0 only when the merge equals
 # the single run.
 set -euo pipefail
-N=${N:-3}
-OUT=${OUT:-out/slurm}
-BIN=${BIN:-target/release}
-ROOM=${ROOM:-examples/room}
-SENSORS=${SENSORS:-$ROOM/sensors.pts}
-RDC_OPTS=${RDC_OPTS:--ab 5 -ad 10000 -lw 1e-5 -s 1}
-TIMEOUT=${TIMEOUT:-1800}
-export N OUT BIN ROOM SENSORS RDC_OPTS
-# One date for every header: shards, merge and the single run then match byte for byte.
-# Kept in $OUT/epoch so that resume.sh gives the shards it reruns the same dates.
-export SOURCE_DATE_EPOCH=${SOURCE_DATE_EPOCH:-$(date +%s)}
 HERE=$(dirname "$0")
 # shellcheck source=examples/slurm/jobs.sh
 source "$HERE/jobs.sh"
+# One date for every header: shards, merge and the single run then match byte for byte.
+# Kept in $OUT/epoch so that resume.sh gives the shards it reruns the same dates.
+export SOURCE_DATE_EPOCH=${SOURCE_DATE_EPOCH:-$(date +%s)}
 bash "$HERE/start.sh"
 export SLURM_CONF=${SLURM_HOME:-/tmp/rdaylight-slurm}/slurm.conf
 mkdir -p "$OUT"
