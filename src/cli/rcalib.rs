@@ -11,7 +11,7 @@ use crate::calib::room::parse_classes;
 use crate::calib::run::{self, Files, Reports, SynthClimate};
 use crate::calib::score::DEFAULT_SENSOR_SIGMA;
 use crate::calib::session::Options;
-use crate::calib::simulate::Settings;
+use crate::calib::simulate::{Settings, StepSkyModel};
 use crate::error::Error;
 use clap::{Args, Parser, Subcommand};
 use std::path::PathBuf;
@@ -154,6 +154,11 @@ pub struct SimArgs {
     /// keywords in material names).
     #[arg(long)]
     pub classes: Option<String>,
+    /// Sky of each measured step: gendaylit (default; as a point-in-time `gendaylit |
+    /// rtrace -I` run sees it, one more traced run) or gendaymtx (the annual pipelines'
+    /// sky, 0.5-2 % brighter in a side-lit room).
+    #[arg(long, default_value = "gendaylit", value_parser = ["gendaylit", "gendaymtx"])]
+    pub sky: String,
 }
 
 #[derive(Args, Clone)]
@@ -318,6 +323,11 @@ impl SimArgs {
             cache: (!self.no_cache).then(|| self.cache.clone()),
             classes: classes(&self.classes)?,
             reflectance,
+            sky: if self.sky == "gendaymtx" {
+                StepSkyModel::Gendaymtx
+            } else {
+                StepSkyModel::Gendaylit
+            },
         })
     }
 }

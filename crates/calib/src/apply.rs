@@ -142,7 +142,11 @@ pub fn apply(
                     )?;
                 }
             }
-            Effect::Overhang { window, depth } => {
+            Effect::Overhang {
+                window,
+                depth,
+                above,
+            } => {
                 let w = room.windows.get(*window).ok_or_else(|| {
                     Error::Usage("overhang: the model has no window (glass polygon)".into())
                 })?;
@@ -153,7 +157,7 @@ pub fn apply(
                     [
                         w.centroid[0] + w.tangent[0] * (u - cu) + w.outward[0] * o,
                         w.centroid[1] + w.tangent[1] * (u - cu) + w.outward[1] * o,
-                        w.head,
+                        w.head + above,
                     ]
                 };
                 let (u0, u1) = (w.span.0 - depth, w.span.1 + depth);

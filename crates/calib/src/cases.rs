@@ -310,6 +310,10 @@ pub struct Case {
     pub truth_values: Vec<f64>,
     /// The hidden effects (families), empty for a control.
     pub hidden: Vec<Effect>,
+    /// The hidden effects' families where they are not [`Case::hidden`] (cases made
+    /// outside rcalib, [`Case::from_dir`]: real geometry, no rcalib parameters); empty:
+    /// the families of `hidden`.
+    pub families: Vec<String>,
 }
 
 /// Parse a case's scene text.
@@ -503,10 +507,122 @@ pub fn generate_with_sensors(
         readings,
         truth_values: values,
         hidden,
+        families: Vec::new(),
     })
 }
 
 impl Case {
+    /// A case made outside rcalib (`radiance-fixtures/calib-cases/`, truths by real
+    /// Radiance): `model.rad`, `sensors.csv`, `weather.wea` and `readings.csv` (what a
+    /// user has), `truth.rad`, `truth.tsv` (two independent runs per reading, whose mean
+    /// is the noise-free truth) and `case.json` (the hidden effects' families; a sensor
+    /// fault's sensor index and factor).
+    pub fn from_dir(dir: &std::path::Path) -> Result<Case> {
+        use crate::error::Error;
+        let file = |name: &str| dir.join(name).to_string_lossy().into_owned();
+        let read = |name: &str| {
+            std::fs::read_to_string(dir.join(name))
+                .map_err(|e| Error::Usage(format!("{}: {e}", file(name))))
+        };
+        let l = session::load(
+            &[file("model.rad")],
+            &file("sensors.csv"),
+            &file("weather.wea"),
+            &file("readings.csv"),
+            &super::measurements::Columns::default(),
+        )?;
+        let meta: serde_json::Value = serde_json::from_str(&read("case.json")?)
+            .map_err(|e| Error::Usage(format!("{}: {e}", file("case.json"))))?;
+        let name = meta["name"].as_str().unwrap_or("case").to_string();
+        let mut families = Vec::new();
+        let mut hidden = Vec::new();
+        for h in meta["hidden"].as_array().into_iter().flatten() {
+            let fam = h["effect"].as_str().unwrap_or_default().to_string();
+            if fam == "sensor-fault" {
+                let i = h["sensor"].as_u64().unwrap_or(0) as usize;
+                let f = h["factor"].as_f64().unwrap_or(1.0);
+                hidden.push(Effect::SensorFault {
+                    factors: vec![(i, f)],
+                });
+            }
+            families.push(fam);
+        }
+        // Truth per (month, day, hour in ms, sensor): the mean of the two runs.
+        let key =
+            |m: u32, d: u32, h: f64, s: &str| (m, d, (h * 1000.0).round() as i64, s.to_string());
+        let mut truth = std::collections::HashMap::new();
+        for (n, line) in read("truth.tsv")?.lines().enumerate().skip(1) {
+            let f: Vec<&str> = line.split('\t').collect();
+            let num = |i: usize| f.get(i).and_then(|v| v.parse::<f64>().ok());
+            match (num(0), num(1), num(2), f.get(3), num(4), num(5)) {
+                (Some(m), Some(d), Some(h), Some(s), Some(a), Some(b)) => {
+                    truth.insert(key(m as u32, d as u32, h, s), 0.5 * (a + b));
+                }
+                _ => {
+                    return Err(Error::Usage(format!(
+                        "{}:{}: expected month, day, hour, sensor and two values",
+                        file("truth.tsv"),
+                        n + 1
+                    )));
+                }
+            }
+        }
+        let truth_values = l
+            .readings
+            .iter()
+            .map(|b| {
+                let st = &l.weather.steps[b.step];
+                let id = &l.sensors[b.sensor].id;
+                truth
+                    .get(&key(st.month.into(), st.day.into(), st.hour, id))
+                    .copied()
+                    .ok_or_else(|| {
+                        Error::Usage(format!(
+                            "{}: no truth for sensor {id} at {}/{} {}",
+                            file("truth.tsv"),
+                            st.month,
+                            st.day,
+                            st.hour
+                        ))
+                    })
+            })
+            .collect::<Result<Vec<f64>>>()?;
+        // The noise-free readings carry the hidden fault, as `generate`'s do.
+        let truth_values = truth_values
+            .into_iter()
+            .zip(&l.readings)
+            .map(|(v, b)| {
+                hidden.iter().fold(v, |v, e| match e {
+                    Effect::SensorFault { factors } => factors
+                        .iter()
+                        .find(|f| f.0 == b.sensor)
+                        .map_or(v, |f| v * f.1),
+                    _ => v,
+                })
+            })
+            .collect();
+        Ok(Case {
+            name,
+            model_text: read("model.rad")?,
+            truth_text: read("truth.rad")?,
+            sensors: l.sensors,
+            weather: l.weather,
+            readings: l.readings,
+            truth_values,
+            hidden,
+            families,
+        })
+    }
+
+    /// The hidden families, for the hit rule.
+    pub fn hidden_families(&self) -> Vec<String> {
+        if self.families.is_empty() {
+            self.hidden.iter().map(|e| e.family().to_string()).collect()
+        } else {
+            self.families.clone()
+        }
+    }
+
     /// The model as a scene.
     pub fn model_scene(&self) -> Result<Scene> {
         scene_of(&self.model_text)
@@ -578,6 +694,7 @@ pub fn hidden_effects(kind: RoomKind) -> Vec<(String, Vec<Effect>)> {
             vec![Effect::Overhang {
                 window: 0,
                 depth: 1.2,
+                above: 0.0,
             }],
         ),
         (
@@ -784,7 +901,7 @@ pub fn evaluate(case: &Case, opts: &Options, sigma_sensor: f64) -> Result<Outcom
             )
         })
         .collect();
-    let hidden: Vec<String> = case.hidden.iter().map(|e| e.family().to_string()).collect();
+    let hidden = case.hidden_families();
     let selected: Vec<String> = effects.iter().map(|e| e.family().to_string()).collect();
     let ranking: Vec<String> = ex.ranking.iter().map(|c| c.family.clone()).collect();
     let hit = match hidden.len() {

@@ -192,7 +192,18 @@ impl Room {
             });
         }
         let mut materials = Vec::new();
-        for o in &scene.objects {
+        // Only materials some surface uses: a class whose materials cover nothing (a
+        // `ground_mat` defined in a model without an exterior ground) has no effect to fit.
+        let used: std::collections::HashSet<usize> = scene
+            .objects
+            .iter()
+            .filter(|o| o.kind.is_surface())
+            .filter_map(|o| o.modifier)
+            .collect();
+        for (i, o) in scene.objects.iter().enumerate() {
+            if !used.contains(&i) {
+                continue;
+            }
             if !matches!(
                 o.kind,
                 Primitive::Plastic { .. } | Primitive::Metal { .. } | Primitive::Trans { .. }

@@ -9,7 +9,9 @@ use super::inputs::load_sensors;
 use super::measurements::{Bound, Columns, Measurements};
 use super::model::Model;
 use super::room::{Room, SurfaceClass, sensor_centroid};
-use super::simulate::{Settings, Simulator, step_skies, subset_wea};
+use super::simulate::{
+    Settings, Simulator, StepSkyModel, step_skies_seen, step_skies_with, subset_wea,
+};
 use crate::error::{Error, Result};
 use crate::formats::sensors::Sensor;
 use crate::formats::weather::Weather;
@@ -24,6 +26,12 @@ pub struct Options {
     pub classes: Vec<(String, SurfaceClass)>,
     /// Re-trace reflectance sensitivities (explain needs them; compare does not).
     pub reflectance: bool,
+    /// The measured steps' skies ([`StepSkyModel`]). `Gendaylit` (the default) is
+    /// gendaylit's sky as the scene sees it ([`step_skies_seen`]: one more traced run,
+    /// cached), the sky of a point-in-time `gendaylit | rtrace -I` reference, within 0.3 %
+    /// of it per step; `Gendaymtx` is the annual pipelines' sky (gendaymtx), 0.5-2.2 % high
+    /// against it (`radiance-fixtures/calib/README.md`).
+    pub sky: StepSkyModel,
 }
 
 impl Default for Options {
@@ -33,6 +41,7 @@ impl Default for Options {
             cache: None,
             classes: Vec::new(),
             reflectance: false,
+            sky: StepSkyModel::Gendaylit,
         }
     }
 }
@@ -58,7 +67,7 @@ pub fn build(
             ..*b
         })
         .collect();
-    let skies = step_skies(weather, &idx, opts.settings.mf);
+    let mut skies = step_skies_with(weather, &idx, opts.settings.mf, StepSkyModel::Gendaymtx);
     let simulator = Simulator::new(
         opts.settings.clone(),
         opts.cache.clone(),
@@ -66,6 +75,10 @@ pub fn build(
         subset_wea(weather, &idx),
         &skies,
     )?;
+    if opts.sky == StepSkyModel::Gendaylit {
+        let seen = simulator.seen_sky(scene)?;
+        skies = step_skies_seen(weather, &idx, opts.settings.mf, &seen);
+    }
     let dcs = simulator.dcs(scene)?;
     let room = Room::new(scene, sensor_centroid(&sensors), &opts.classes);
     Model::build(

@@ -44,9 +44,13 @@ pub enum Effect {
     },
     /// Reflectance of a surface class times `scale`.
     Reflectance { class: SurfaceClass, scale: f64 },
-    /// A horizontal overhang of `depth` metres at the head of window `window` (index into
-    /// the room's windows).
-    Overhang { window: usize, depth: f64 },
+    /// A horizontal overhang `depth` metres deep, `above` metres above the head of window
+    /// `window` (index into the room's windows).
+    Overhang {
+        window: usize,
+        depth: f64,
+        above: f64,
+    },
     /// `fraction` of the direct light (sky and sun) blocked at `sensors` (indices).
     LocalObstruction { sensors: Vec<usize>, fraction: f64 },
     /// Readings of `sensor` are `factor` times the true illuminance.
@@ -71,6 +75,10 @@ pub const FAMILIES: [&str; 9] = [
     "local-obstruction",
     "sensor-fault",
 ];
+
+/// Highest an overhang may sit above its window's head (m): above that it shades the
+/// window only from beyond 3 m of depth, which the fit does not search.
+pub const MAX_ABOVE: f64 = 2.0;
 
 /// Largest transmittance or reflectance scale `--effect` takes: a material of reflectance
 /// 0.095 (the darkest a room has) reaches the 0.95 cap at 10.
@@ -101,7 +109,7 @@ impl Effect {
         match self {
             Effect::Transmittance { .. } | Effect::Reflectance { .. } => 1,
             Effect::Obstruction { .. } => 3,
-            Effect::Overhang { .. } => 2,
+            Effect::Overhang { .. } => 3,
             Effect::LocalObstruction { .. } => 3,
             Effect::SensorFault { factors } => factors.len(),
             Effect::Tint { .. } => 3,
@@ -151,8 +159,12 @@ impl Effect {
                 altitude,
             } => format!("obstruction:{azimuth:.1},{half_width:.1},{altitude:.1}"),
             Effect::Reflectance { scale, .. } => format!("{}:{scale:.3}", self.family()),
-            Effect::Overhang { window, depth } => format!(
-                "overhang:{depth:.2},{}",
+            Effect::Overhang {
+                window,
+                depth,
+                above,
+            } => format!(
+                "overhang:{depth:.2},{},{above:.2}",
                 window_ids.get(*window).cloned().unwrap_or_default()
             ),
             Effect::LocalObstruction { sensors, fraction } => format!(
@@ -243,7 +255,18 @@ impl Effect {
                 _ => return Err(bad("expected AZIMUTH,HALF_WIDTH>0,ALTITUDE 0..90")),
             },
             "overhang" => {
-                let (d, w) = params.split_once(',').unwrap_or((params, ""));
+                let mut parts = params.splitn(3, ',');
+                let d = parts.next().unwrap_or_default();
+                let w = parts.next().unwrap_or_default();
+                let above = match parts.next() {
+                    Some(a) => one(a)?,
+                    None => 0.0,
+                };
+                if above > MAX_ABOVE {
+                    return Err(bad(&format!(
+                        "height above the window head over {MAX_ABOVE} m"
+                    )));
+                }
                 let window = if w.is_empty() {
                     0
                 } else {
@@ -255,6 +278,7 @@ impl Effect {
                 Effect::Overhang {
                     window,
                     depth: one(d)?,
+                    above,
                 }
             }
             "local-obstruction" => {
@@ -312,8 +336,12 @@ impl Effect {
                 class.name(),
                 100.0 * scale
             ),
-            Effect::Overhang { window, depth } => format!(
-                "overhang {depth:.2} m deep above window '{}'",
+            Effect::Overhang {
+                window,
+                depth,
+                above,
+            } => format!(
+                "overhang {depth:.2} m deep, {above:.2} m above the head of window '{}'",
                 window_ids.get(*window).cloned().unwrap_or_default()
             ),
             Effect::LocalObstruction { sensors, fraction } => format!(

@@ -1,9 +1,11 @@
 //! # Overhang (shading) above a window
 //!
-//! A horizontal projection of depth `D` at the head of a window of height `H` hides, for a
-//! direction with profile angle φ (tan φ = d_z / (d · n_out), the altitude projected on the
-//! plane normal to the window: Tregenza & Wilson, *Daylighting*, 2011, sec. 10.2), the
-//! upper `D tan φ` of the opening. So:
+//! A horizontal projection of depth `D` at height `A` above the head of a window hides, for
+//! a direction with profile angle φ (tan φ = d_z / (d · n_out), the altitude projected on
+//! the plane normal to the window: Tregenza & Wilson, *Daylighting*, 2011, sec. 10.2), the
+//! upper `D tan φ - A` of the opening. Real overhangs (a balcony, the floor slab above, a
+//! brise-soleil) often sit well above the head: one fitted at the head (`A = 0`) cuts the
+//! high sun too early and the low sun too late, so both are fitted. So:
 //!
 //! - light of a sky patch or the sun entering the room (what reaches sensors through
 //!   inter-reflection) loses the shaded fraction of that window's share (16 columns);
@@ -14,7 +16,7 @@
 //! each side, so rays leaving obliquely can pass beside it (exact per ray, [`blocked_z`]).
 //! Signature: high sun and high sky, so mostly sun hours and sensors near the window.
 
-use super::{Effect, golden, smooth_step};
+use super::{Effect, MAX_ABOVE, golden, smooth_step};
 use crate::fit::{Fitter, without};
 use crate::model::{Model, Weights};
 use crate::room::{Window, dot};
@@ -22,25 +24,26 @@ use crate::room::{Window, dot};
 /// Columns of the opening sampled by [`shaded`].
 const COLUMNS: usize = 16;
 
-/// The overhang as `rcalib apply` writes it: a plate at the head, `depth` deep, wider than
-/// the opening by `depth` on each side. For a ray leaving the opening at `(u, z)` (along the
-/// wall, height) in direction `d`, the heights `z` whose rays hit the plate: those within
-/// `depth tan(phi)` of the head whose lateral drift up to the head, `k (head - z)` with
-/// `k = (d . t) / d_z`, keeps them within the plate's width. Returns the blocked range of
-/// `z` (possibly empty).
-fn blocked_z(w: &Window, depth: f64, d: [f64; 3], u: f64) -> (f64, f64) {
+/// The overhang as `rcalib apply` writes it: a plate `above` metres over the head, `depth`
+/// deep, wider than the opening by `depth` on each side. For a ray leaving the opening at
+/// `(u, z)` (along the wall, height) in direction `d`, the heights `z` whose rays hit the
+/// plate at `zp = head + above`: those within `depth tan(phi)` below `zp` whose lateral
+/// drift up to it, `k (zp - z)` with `k = (d . t) / d_z`, keeps them within the plate's
+/// width. Returns the blocked range of `z` (possibly empty).
+fn blocked_z(w: &Window, depth: f64, above: f64, d: [f64; 3], u: f64) -> (f64, f64) {
     let c = dot(d, w.outward);
     if c <= 1e-6 || d[2] <= 1e-6 {
         return (0.0, 0.0);
     }
     let tan_phi = d[2] / c;
-    let mut lo = w.head - depth * tan_phi;
+    let zp = w.head + above;
+    let mut lo = zp - depth * tan_phi;
     let mut hi = w.head;
     let k = dot(d, w.tangent) / d[2];
     let (a, b) = (w.span.0 - depth, w.span.1 + depth);
-    // u + k (head - z) in [a, b]  <=>  z in [head - (b - u)/k, head - (a - u)/k] (k > 0).
+    // u + k (zp - z) in [a, b]  <=>  z in [zp - (b - u)/k, zp - (a - u)/k] (k > 0).
     if k.abs() > 1e-9 {
-        let (z1, z2) = (w.head - (b - u) / k, w.head - (a - u) / k);
+        let (z1, z2) = (zp - (b - u) / k, zp - (a - u) / k);
         lo = lo.max(z1.min(z2));
         hi = hi.min(z1.max(z2));
     }
@@ -49,7 +52,7 @@ fn blocked_z(w: &Window, depth: f64, d: [f64; 3], u: f64) -> (f64, f64) {
 
 /// Fraction of the opening `w` shaded for direction `d` (unit, towards the sky), and the
 /// window's projected area towards `d`.
-fn shaded(w: &Window, depth: f64, d: [f64; 3]) -> (f64, f64) {
+fn shaded(w: &Window, depth: f64, above: f64, d: [f64; 3]) -> (f64, f64) {
     let c = dot(d, w.outward);
     if c <= 1e-6 {
         return (0.0, 0.0);
@@ -58,7 +61,7 @@ fn shaded(w: &Window, depth: f64, d: [f64; 3]) -> (f64, f64) {
     let mut f = 0.0;
     for i in 0..COLUMNS {
         let u = w.span.0 + (w.span.1 - w.span.0) * (i as f64 + 0.5) / COLUMNS as f64;
-        let (lo, hi) = blocked_z(w, depth, d, u);
+        let (lo, hi) = blocked_z(w, depth, above, d, u);
         f += ((hi.min(w.head) - lo.max(w.sill)) / h).clamp(0.0, 1.0);
     }
     (f / COLUMNS as f64, w.area * c)
@@ -66,7 +69,7 @@ fn shaded(w: &Window, depth: f64, d: [f64; 3]) -> (f64, f64) {
 
 /// Weight of the direct view from `org` along `d` past an overhang on window `w`: 1 when the
 /// ray misses the window (edges smoothed over 1 cm for the fit).
-fn direct(w: &Window, depth: f64, org: [f64; 3], d: [f64; 3]) -> f64 {
+fn direct(w: &Window, depth: f64, above: f64, org: [f64; 3], d: [f64; 3]) -> f64 {
     let c = dot(d, w.outward);
     let dist = w.depth_of(org);
     if c <= 1e-6 || dist <= 0.0 {
@@ -78,7 +81,7 @@ fn direct(w: &Window, depth: f64, org: [f64; 3], d: [f64; 3]) -> f64 {
     if hit[2] < w.sill - 1e-6 || hit[2] > w.head + 1e-6 || u < w.span.0 || u > w.span.1 {
         return 1.0;
     }
-    let (lo, hi) = blocked_z(w, depth, d, u);
+    let (lo, hi) = blocked_z(w, depth, above, d, u);
     if hi <= lo {
         return 1.0;
     }
@@ -87,14 +90,19 @@ fn direct(w: &Window, depth: f64, org: [f64; 3], d: [f64; 3]) -> f64 {
 
 /// Multiply the window weights by what the overhang leaves.
 pub fn apply(e: &Effect, m: &Model, wt: &mut Weights) {
-    let Effect::Overhang { window, depth } = *e else {
+    let Effect::Overhang {
+        window,
+        depth,
+        above,
+    } = *e
+    else {
         return;
     };
     let Some(win) = m.room.windows.get(window) else {
         return;
     };
     let share = |d: [f64; 3]| -> f64 {
-        let (f, a) = shaded(win, depth, d);
+        let (f, a) = shaded(win, depth, above, d);
         let total: f64 = m
             .room
             .windows
@@ -116,8 +124,8 @@ pub fn apply(e: &Effect, m: &Model, wt: &mut Weights) {
             // cells), else at the patch centre.
             let org = sensor.ray.org;
             wd[s * np + p] *= hz
-                .direct_mean(s, p, |c| direct(win, depth, org, c))
-                .unwrap_or_else(|| direct(win, depth, org, d));
+                .direct_mean(s, p, |c| direct(win, depth, above, org, c))
+                .unwrap_or_else(|| direct(win, depth, above, org, d));
         }
     }
     wt.win_dir = Some(wd);
@@ -128,32 +136,70 @@ pub fn apply(e: &Effect, m: &Model, wt: &mut Weights) {
         }
         wt.sun_win_ind[t] *= 1.0 - share(sk.sun_dir);
         for (s, sensor) in m.sensors.iter().enumerate() {
-            sd[s * nt + t] *= direct(win, depth, sensor.ray.org, sk.sun_dir);
+            sd[s * nt + t] *= direct(win, depth, above, sensor.ray.org, sk.sun_dir);
         }
     }
     wt.sun_win_dir = Some(sd);
 }
 
-/// Best depth (0 to 3 m) for each window given the other effects.
+/// Heights above the head the fit starts from (m): from a plate at the head to one a
+/// storey-slab above it.
+const ABOVE_GRID: [f64; 6] = [0.0, 0.15, 0.3, 0.5, 0.75, 1.0];
+
+/// Best depth (0 to 3 m) and height above the head (0 to [`MAX_ABOVE`]) for each window
+/// given the other effects: a coarse grid over both (the likelihood has shoulders where
+/// suns cross the plate's edges), then golden-section refinement of the depth and the
+/// height in turn, twice.
 pub fn fit(f: &Fitter, base: &[Effect]) -> Option<Effect> {
     let base = without(base, "overhang");
     let w0 = f.m.weights(&base);
     let mut best: Option<(Effect, f64)> = None;
     for window in 0..f.m.room.windows.len() {
-        let mut eval = |depth: f64| f.m2ll_on(&w0, &Effect::Overhang { window, depth });
-        // Coarse scan first: the profile can have shoulders where suns cross edges.
-        let mut start = (0.0, f64::INFINITY);
-        for k in 0..=12 {
-            let d = 0.25 * k as f64;
-            let s = eval(d);
-            if s < start.1 {
-                start = (d, s);
+        let eval = |depth: f64, above: f64| {
+            f.m2ll_on(
+                &w0,
+                &Effect::Overhang {
+                    window,
+                    depth,
+                    above,
+                },
+            )
+        };
+        let mut start = (0.0, 0.0, f64::INFINITY);
+        for &a in &ABOVE_GRID {
+            for k in 0..=12 {
+                let d = 0.25 * k as f64;
+                let s = eval(d, a);
+                if s < start.2 {
+                    start = (d, a, s);
+                }
             }
         }
-        let (d, s) = golden(&mut eval, (start.0 - 0.25).max(0.0), start.0 + 0.25, 14);
-        let (d, s) = if s < start.1 { (d, s) } else { start };
+        let (mut d, mut a, mut s) = start;
+        for _ in 0..2 {
+            let (d1, s1) = golden(&mut |x| eval(x, a), (d - 0.25).max(0.0), d + 0.25, 14);
+            if s1 < s {
+                (d, s) = (d1, s1);
+            }
+            let (a1, s1) = golden(
+                &mut |x| eval(d, x),
+                (a - 0.2).max(0.0),
+                (a + 0.2).min(MAX_ABOVE),
+                12,
+            );
+            if s1 < s {
+                (a, s) = (a1, s1);
+            }
+        }
         if best.as_ref().is_none_or(|b| s < b.1) {
-            best = Some((Effect::Overhang { window, depth: d }, s));
+            best = Some((
+                Effect::Overhang {
+                    window,
+                    depth: d,
+                    above: a,
+                },
+                s,
+            ));
         }
     }
     best.map(|b| b.0)
