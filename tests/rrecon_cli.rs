@@ -196,6 +196,6 @@ fn bad_inputs_give_one_line_with_location_and_fix() {
     let e = err(&["room", "kitchen"], b"");
     assert_eq!(
         e,
-        "rrecon: unknown room 'kitchen'; expected one of rect, lshape, slanted, arched, cluttered\n"
+        "rrecon: unknown room 'kitchen'; expected one of rect, lshape, slanted, arched, cluttered, flush, flushl\n"
     );
 }

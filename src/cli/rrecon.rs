@@ -41,7 +41,8 @@ pub struct Cli {
 pub enum Command {
     /// Simulate a terrestrial laser scan of a `.rad` room (binary PLY on stdout).
     Simulate(Simulate),
-    /// Write a built-in test room (rect, lshape, slanted, arched, cluttered) as `.rad`.
+    /// Write a built-in test room (rect, lshape, slanted, arched, cluttered, flush, flushl)
+    /// as `.rad`.
     Room {
         name: String,
         /// Leave the furniture out (the GLoD0 ground truth).
@@ -72,6 +73,10 @@ pub struct Simulate {
     /// Range noise (standard deviation), metres.
     #[arg(value_parser = super::finite, long, default_value_t = 0.003)]
     pub noise: f64,
+    /// Probability that a beam through glass returns a stray point 0.05-5 m beyond it
+    /// (dirt, frames, reflections; 0.001 gives a few dozen per window).
+    #[arg(value_parser = super::finite, long, default_value_t = 0.0)]
+    pub stray: f64,
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
 }
@@ -136,6 +141,7 @@ impl Simulate {
             stations: self.stations.as_deref().map(parse_stations).transpose()?,
             resolution: self.resolution,
             noise: self.noise,
+            stray: self.stray,
             seed: self.seed,
         })
     }

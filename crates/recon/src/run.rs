@@ -120,6 +120,8 @@ pub struct Simulate {
     pub resolution: f64,
     /// Range noise (standard deviation), metres.
     pub noise: f64,
+    /// Probability of a stray return beyond glass.
+    pub stray: f64,
     pub seed: u64,
 }
 
@@ -144,6 +146,7 @@ pub fn simulate_run(a: &Simulate, out: &mut dyn Write) -> Result<()> {
         stations,
         resolution: a.resolution,
         noise: a.noise,
+        stray: a.stray,
         seed: a.seed,
         ..Default::default()
     };
