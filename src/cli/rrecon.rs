@@ -105,12 +105,18 @@ pub struct Recon {
     #[arg(long)]
     pub materials: Option<String>,
     /// Reveal depth (wall thickness to the glass), metres, or `auto`: measured per window
-    /// from the points behind the wall (0.2 where there are none).
+    /// from the reveal points behind the wall; 0 (flush glazing) for a window the stations
+    /// saw into without a reveal, 0.2 for a chosen candidate nobody saw.
     #[arg(long, default_value = "auto")]
     pub reveal_depth: String,
     /// Unit of the input coordinates: m, cm, mm, in, ft.
     #[arg(long, default_value = "m")]
     pub units: String,
+    /// Scanner stations x,y,z;x,y,z (metres, after --units), which tell windows from the
+    /// shadows of clutter. E57 scan poses and PLY `comment station` lines give them; without
+    /// either, one station is assumed 1.5 m above the floor point farthest from the walls.
+    #[arg(long)]
+    pub stations: Option<String>,
     /// Crop box x0,y0,z0,x1,y1,z1 (metres, after unit conversion).
     #[arg(long)]
     pub crop: Option<String>,
@@ -170,6 +176,7 @@ impl Recon {
             selection,
             materials: self.materials.clone(),
             units: self.units.clone(),
+            stations: self.stations.as_deref().map(parse_stations).transpose()?,
             params: Reconstruct::params(
                 crop,
                 self.target_points,
