@@ -151,6 +151,94 @@ fn room_simulate_reconstruct_eval_through_pipes() {
     );
 }
 
+/// Issue 19: flush glazing with a few stray returns and a board whose shadow looks like a
+/// window. The PLY carries its stations; the same points as XYZ do not, and rrecon says what
+/// it assumed instead, or takes them from --stations.
+#[test]
+fn flush_glazing_windows_with_and_without_stations() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = |n: &str| dir.path().join(n).display().to_string();
+    std::fs::write(d("room.rad"), ok(&["room", "flush"], b"")).unwrap();
+    let scan = ok(
+        &[
+            "simulate",
+            &d("room.rad"),
+            "--resolution",
+            "0.7",
+            "--stray",
+            "0.002",
+        ],
+        b"",
+    );
+    let glazing = |rad: &[u8]| {
+        String::from_utf8_lossy(rad)
+            .matches("\nglazing polygon ")
+            .count()
+    };
+    let o = rrecon(&["--auto", "--json", &d("s.json"), "-"], &scan);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_eq!(glazing(&o.stdout), 2);
+    assert!(
+        o.stderr.is_empty(),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let j: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(d("s.json")).unwrap()).unwrap();
+    assert_eq!(j["stations_assumed"], false);
+    assert_eq!(j["stations"].as_array().unwrap().len(), 3);
+    let shadow = j["candidates"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .flat_map(|w| w["candidates"].as_array().unwrap().iter())
+        .find(|c| c["view"] == "occluded" && c["area"].as_f64().unwrap() > 1.0)
+        .expect("the board's shadow is listed");
+    assert_eq!(shadow["auto"], false);
+    assert!(
+        shadow["reason"]
+            .as_str()
+            .unwrap()
+            .contains("occlusion shadow"),
+        "{shadow}"
+    );
+    // The same points without stations.
+    let cloud = rdaylight::recon::ply::read(&scan, "scan.ply").unwrap();
+    let mut xyz = String::new();
+    for p in &cloud.points {
+        xyz.push_str(&format!("{} {} {}\n", p[0], p[1], p[2]));
+    }
+    std::fs::write(d("scan.xyz"), xyz).unwrap();
+    let o = rrecon(&["--auto", &d("scan.xyz")], b"");
+    assert!(o.status.success());
+    assert_eq!(glazing(&o.stdout), 2);
+    let note = String::from_utf8(o.stderr).unwrap();
+    assert!(
+        note.starts_with("rrecon: note: ")
+            && note.contains("gives no scanner stations")
+            && note.contains("(give --stations)"),
+        "{note}"
+    );
+    let o = rrecon(
+        &[
+            "--auto",
+            "--stations",
+            "2.3,2.0,1.5;4.7,2.6,1.45;1.4,3.2,1.55",
+            &d("scan.xyz"),
+        ],
+        b"",
+    );
+    assert!(o.status.success());
+    assert_eq!(glazing(&o.stdout), 2);
+    assert!(
+        o.stderr.is_empty(),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let e = err(&["--auto", "--stations", "1,2", &d("scan.xyz")], b"");
+    assert_eq!(e, "rrecon: --stations '1,2': expected x,y,z\n");
+}
+
 #[test]
 fn bad_inputs_give_one_line_with_location_and_fix() {
     let dir = tempfile::tempdir().unwrap();
@@ -196,6 +284,6 @@ fn bad_inputs_give_one_line_with_location_and_fix() {
     let e = err(&["room", "kitchen"], b"");
     assert_eq!(
         e,
-        "rrecon: unknown room 'kitchen'; expected one of rect, lshape, slanted, arched, cluttered\n"
+        "rrecon: unknown room 'kitchen'; expected one of rect, lshape, slanted, arched, cluttered, flush, flushl\n"
     );
 }

@@ -41,7 +41,8 @@ pub struct Cli {
 pub enum Command {
     /// Simulate a terrestrial laser scan of a `.rad` room (binary PLY on stdout).
     Simulate(Simulate),
-    /// Write a built-in test room (rect, lshape, slanted, arched, cluttered) as `.rad`.
+    /// Write a built-in test room (rect, lshape, slanted, arched, cluttered, flush, flushl)
+    /// as `.rad`.
     Room {
         name: String,
         /// Leave the furniture out (the GLoD0 ground truth).
@@ -72,6 +73,10 @@ pub struct Simulate {
     /// Range noise (standard deviation), metres.
     #[arg(value_parser = super::finite, long, default_value_t = 0.003)]
     pub noise: f64,
+    /// Probability that a beam through glass returns a stray point 0.05-5 m beyond it
+    /// (dirt, frames, reflections; 0.001 gives a few dozen per window).
+    #[arg(value_parser = super::finite, long, default_value_t = 0.0)]
+    pub stray: f64,
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
 }
@@ -100,12 +105,18 @@ pub struct Recon {
     #[arg(long)]
     pub materials: Option<String>,
     /// Reveal depth (wall thickness to the glass), metres, or `auto`: measured per window
-    /// from the points behind the wall (0.2 where there are none).
+    /// from the reveal points behind the wall; 0 (flush glazing) for a window the stations
+    /// saw into without a reveal, 0.2 for a chosen candidate nobody saw.
     #[arg(long, default_value = "auto")]
     pub reveal_depth: String,
     /// Unit of the input coordinates: m, cm, mm, in, ft.
     #[arg(long, default_value = "m")]
     pub units: String,
+    /// Scanner stations x,y,z;x,y,z (metres, after --units), which tell windows from the
+    /// shadows of clutter. E57 scan poses and PLY `comment station` lines give them; without
+    /// either, one station is assumed 1.5 m above the floor point farthest from the walls.
+    #[arg(long)]
+    pub stations: Option<String>,
     /// Crop box x0,y0,z0,x1,y1,z1 (metres, after unit conversion).
     #[arg(long)]
     pub crop: Option<String>,
@@ -136,6 +147,7 @@ impl Simulate {
             stations: self.stations.as_deref().map(parse_stations).transpose()?,
             resolution: self.resolution,
             noise: self.noise,
+            stray: self.stray,
             seed: self.seed,
         })
     }
@@ -164,6 +176,7 @@ impl Recon {
             selection,
             materials: self.materials.clone(),
             units: self.units.clone(),
+            stations: self.stations.as_deref().map(parse_stations).transpose()?,
             params: Reconstruct::params(
                 crop,
                 self.target_points,

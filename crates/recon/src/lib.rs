@@ -7,9 +7,10 @@
 //! the plane arrangement (PolyFit's hypothesis and data-fit/coverage selection, here as an
 //! inside/outside labelling of the arrangement's cells solved exactly by a minimum cut, which
 //! makes every edge join exactly two faces by construction) -> windows per wall from gaps in
-//! the Delaunay triangulation of its points, ranked, regularised (rectangles, else a symmetric
-//! outline), cut out of the wall as hole-free pieces, with reveals and glazing -> `.rad` and a
-//! JSON summary. [`simulate`] and [`rooms`] provide scans of known rooms; [`eval`] measures
+//! the Delaunay triangulation of its points, told from occlusion shadows by the stations'
+//! lines of sight (Adán & Huber 2011: open, occluded or unseen), ranked, regularised
+//! (rectangles, else a symmetric outline), cut out of the wall as hole-free pieces, with
+//! reveals and glazing (flush where no reveal was seen) -> `.rad` and a JSON summary. [`simulate`] and [`rooms`] provide scans of known rooms; [`eval`] measures
 //! the result against them.
 //!
 //! ```
@@ -32,14 +33,15 @@
 //! | [`eval`] | Chamfer / Hausdorff to a known model, window errors |
 //! | [`mincut`] | exact binary labelling by s-t min cut (Kolmogorov & Zabih 2004) |
 //! | [`model`] | shell faces + openings -> hole-free polygons, reveals, glazing; watertightness |
-//! | [`preprocess`] | crop, voxel down-sampling, outlier removal, PCA normals (k-d tree) |
+//! | [`preprocess`] | crop, voxel down-sampling, outlier removal, PCA normals (k-d tree), stations' angular steps |
 //! | [`ransac`] | efficient RANSAC planes (Schnabel et al. 2007; seed Table 4.2 defaults) |
 //! | [`radout`] | polygons -> `.rad` with the seed's default materials (or a materials file) |
 //! | [`review`] | SVG per wall with numbered candidates for `--windows` |
-//! | [`rooms`] | the known test rooms (rect, L, slanted, arched, cluttered) |
+//! | [`rooms`] | the known test rooms (rect, L, slanted, arched, cluttered; flush-glazed `flush`, `flushl`) |
 //! | [`run`] | the `rrecon` commands as typed configurations and one call each |
 //! | [`shell`] | watertight shell: inside/outside cells by exact min cut, facets merged per plane |
-//! | [`simulate`] | laser scanner simulator (stations, resolution, range noise, glass) |
+//! | [`simulate`] | laser scanner simulator (stations, resolution, range noise, glass, stray returns) |
+//! | [`visibility`] | lines of sight from the stations: clutter occupancy, open / occluded / unseen |
 //! | [`openings`] | window candidates (Delaunay holes), ranking, regularised outlines |
 //! | [`pipeline`] | the whole run with timings: [`reconstruct`] |
 //! | [`summary`] | the JSON summary (planes, areas, WWR, WFR, timings, candidates) |
@@ -69,6 +71,7 @@ pub mod run;
 pub mod shell;
 pub mod simulate;
 pub mod summary;
+pub mod visibility;
 pub mod xyz;
 
 pub use cloud::{Bounds, PointCloud};

@@ -7,6 +7,7 @@ use super::openings::{self, Candidate, OpeningParams, Selection};
 use super::preprocess;
 use super::ransac::{self, RansacParams};
 use super::shell::{self, Shell, ShellParams};
+use super::visibility::{Views, assumed_station};
 use crate::error::{Error, Result};
 use std::time::Instant;
 
@@ -67,6 +68,9 @@ pub struct Reconstruction {
     pub watertight: Watertight,
     pub timings: Timings,
     pub input_points: usize,
+    /// The scanner stations the window ranking used, and whether they were assumed.
+    pub stations: Vec<[f64; 3]>,
+    pub stations_assumed: bool,
 }
 
 /// Median nearest-neighbour distance of (a sample of) the points.
@@ -96,8 +100,10 @@ pub fn reconstruct(
     if let Some(b) = &p.crop {
         preprocess::crop(&mut cloud, b);
     }
+    // Before down-sampling, which merges the stations' samples.
+    let steps = preprocess::angular_steps(&cloud);
     let voxel = preprocess::voxel_downsample(&mut cloud, p.target_points);
-    preprocess::remove_outliers(&mut cloud, p.sor_k, p.sor_std);
+    let strays = preprocess::take_outliers(&mut cloud, p.sor_k, p.sor_std);
     let spacing = voxel.unwrap_or_else(|| spacing(&cloud.points));
     if cloud.len() < 4 * p.ransac.min_support.max(10) {
         return Err(Error::Usage(format!(
@@ -132,7 +138,28 @@ pub fn reconstruct(
     let op = OpeningParams {
         ..p.openings.clone()
     };
-    let candidates = openings::detect_all(&shell, &cloud, spacing, &op);
+    // Stations: the input's (E57 poses, PLY comments, --stations), else the one a
+    // single-scan survey would use (visibility module documentation).
+    let (stations, stations_assumed) = if cloud.stations.is_empty() {
+        (assumed_station(&shell.model).into_iter().collect(), true)
+    } else {
+        (cloud.stations.clone(), false)
+    };
+    // Grid cells of 1.5 point spacings (at least 2 cm): every surface crossing a cell's
+    // 3 x 3 x 3 block puts several points in it (visibility::MIN_POINTS).
+    let views = Views::new(
+        &shell.model,
+        &cloud.points,
+        &stations,
+        op.band,
+        (1.5 * spacing).max(0.02),
+    );
+    let views = if stations_assumed {
+        views
+    } else {
+        views.with_steps(steps, op.edge_threshold)
+    };
+    let candidates = openings::detect_all(&shell, &cloud, &strays, &views, spacing, &op);
     let mut model = shell.model.clone();
     model.reveal_depth = p.reveal_depth;
     model.openings = openings::choose(&shell, &candidates, select, p.measure_depth)?;
@@ -156,5 +183,7 @@ pub fn reconstruct(
             total: s(t0, t4),
         },
         input_points,
+        stations,
+        stations_assumed,
     })
 }

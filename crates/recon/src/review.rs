@@ -1,7 +1,9 @@
 //! Review pictures: one SVG per wall with the wall's points (their density shows where the
 //! scanner saw the wall) and the numbered window candidates, so that a person can choose
 //! with `--windows wall3:1,2` on the next run (the seed's lasso step, chapter 4.3.1.3).
-//! Candidates `--auto` would take are drawn in blue, the others in orange.
+//! Candidates `--auto` would take are drawn in blue, the others in orange; each carries its
+//! area and the reason for `--auto`'s choice as a tooltip (occlusion shadow, reaches the
+//! floor, ...).
 
 use super::model::{FaceKind, Frame};
 use super::pipeline::Reconstruction;
@@ -71,7 +73,10 @@ pub fn wall_svg(r: &Reconstruction, fi: usize, band: f64) -> Option<String> {
         let colour = if c.auto { "#1f6fd1" } else { "#e08a1e" };
         let _ = write!(
             s,
-            r#"<g fill="{colour}" fill-opacity="0.35" stroke="{colour}" stroke-width="0.5">"#
+            r#"<g fill="{colour}" fill-opacity="0.35" stroke="{colour}" stroke-width="0.5"><title>{}: {:.2} m2, {}</title>"#,
+            c.id,
+            c.area,
+            c.reason.replace('&', "&amp;").replace('<', "&lt;")
         );
         for t in &c.triangles {
             let pts: Vec<String> = t

@@ -1,5 +1,10 @@
 //! Known test rooms for the scan simulator and the evaluation: rectangular, L-shaped,
-//! non-orthogonal with a sloped ceiling, arched window, and cluttered with furniture.
+//! non-orthogonal with a sloped ceiling, arched window, and cluttered with furniture; and
+//! two surveys as real rooms often are (issue 19): glazing flush with the wall (no reveals),
+//! a sloped ceiling over a non-rectangular plan, a rectangular and an arched window, and
+//! clutter standing clear of the floor in front of a wall (a screen on feet, a desk top),
+//! whose occlusion shadows on the wall look like windows: `flush` (a pentagon, three
+//! stations) and `flushl` (an L, four stations).
 //!
 //! A [`RoomSpec`] is a floor outline (counter-clockwise from above, z = 0), a ceiling plane
 //! `z = h0 + gx x + gy y`, windows given on outline edges, a reveal depth (wall thickness to
@@ -47,7 +52,43 @@ pub struct RoomSpec {
 }
 
 /// Names of the built-in rooms.
-pub const ROOMS: [&str; 5] = ["rect", "lshape", "slanted", "arched", "cluttered"];
+pub const ROOMS: [&str; 7] = [
+    "rect",
+    "lshape",
+    "slanted",
+    "arched",
+    "cluttered",
+    "flush",
+    "flushl",
+];
+
+fn bx(lo: [f64; 3], hi: [f64; 3]) -> BoxSpec {
+    BoxSpec { lo, hi }
+}
+
+/// A table: a top `[x0, y0] .. [x1, y1]` from `z` to `z + 0.04` on four 5 cm legs.
+fn table(x0: f64, y0: f64, x1: f64, y1: f64, z: f64) -> Vec<BoxSpec> {
+    let leg = |x: f64, y: f64| bx([x, y, 0.0], [x + 0.05, y + 0.05, z]);
+    vec![
+        bx([x0, y0, z], [x1, y1, z + 0.04]),
+        leg(x0, y0),
+        leg(x1 - 0.05, y0),
+        leg(x0, y1 - 0.05),
+        leg(x1 - 0.05, y1 - 0.05),
+    ]
+}
+
+/// A free-standing board (a whiteboard or pin board on a stand) 4 cm thick from `z0` to `z1`,
+/// parallel to x from `x0` to `x1` at `y`, on two feet: its shadow on the wall behind starts
+/// above the floor, as a window's does.
+fn screen_x(x0: f64, x1: f64, y: f64, z0: f64, z1: f64) -> Vec<BoxSpec> {
+    let foot = |x: f64| bx([x, y - 0.15, 0.0], [x + 0.04, y + 0.19, z0]);
+    vec![
+        bx([x0, y, z0], [x1, y + 0.04, z1]),
+        foot(x0 + 0.1),
+        foot(x1 - 0.14),
+    ]
+}
 
 fn win(edge: usize, offset: f64, width: f64, sill: f64, height: f64) -> WindowSpec {
     WindowSpec {
@@ -146,6 +187,67 @@ impl RoomSpec {
                 ..RoomSpec::named("rect")?
             }
             .renamed(name),
+            // A pentagon (one corner cut off) under a ceiling rising 0.12 m per metre to the
+            // north, both windows flush: a rectangle south, an arch west. A board on a stand
+            // 0.55 m in front of the north wall, a desk along the east wall, a low cabinet
+            // against the south wall.
+            "flush" => RoomSpec {
+                ceiling: [2.5, 0.0, 0.12],
+                reveal_depth: 0.0,
+                furniture: [
+                    screen_x(1.2, 2.7, 4.45, 0.65, 1.95),
+                    table(5.75, 0.8, 6.45, 2.4, 0.72),
+                    vec![bx([4.0, 0.0, 0.0], [5.2, 0.45, 0.8])],
+                ]
+                .concat(),
+                ..base(
+                    vec![[0.0, 0.0], [6.5, 0.0], [6.5, 3.4], [4.9, 5.0], [0.0, 5.0]],
+                    vec![
+                        win(0, 1.2, 1.6, 0.85, 1.3),
+                        WindowSpec {
+                            arched: true,
+                            ..win(4, 1.6, 1.1, 0.9, 1.0)
+                        },
+                    ],
+                    vec![[2.3, 2.0, 1.5], [4.7, 2.6, 1.45], [1.4, 3.2, 1.55]],
+                )
+            },
+            // An L under a ceiling sloping in both directions, four stations; flush windows:
+            // an arch south, rectangles north and east. A board on a stand 0.45 m in front of
+            // the south wall beside the arch, a desk under the north window.
+            "flushl" => RoomSpec {
+                ceiling: [2.55, 0.05, 0.04],
+                reveal_depth: 0.0,
+                furniture: [
+                    screen_x(3.4, 5.6, 0.45, 0.6, 1.9),
+                    table(0.5, 5.6, 2.6, 6.3, 0.74),
+                ]
+                .concat(),
+                ..base(
+                    vec![
+                        [0.0, 0.0],
+                        [7.0, 0.0],
+                        [7.0, 3.2],
+                        [3.4, 3.2],
+                        [3.4, 6.5],
+                        [0.0, 6.5],
+                    ],
+                    vec![
+                        WindowSpec {
+                            arched: true,
+                            ..win(0, 1.2, 1.2, 0.9, 1.05)
+                        },
+                        win(4, 1.0, 1.5, 1.0, 1.2),
+                        win(1, 0.9, 1.4, 0.9, 1.3),
+                    ],
+                    vec![
+                        [1.6, 1.6, 1.5],
+                        [5.3, 1.9, 1.45],
+                        [1.7, 4.8, 1.55],
+                        [2.4, 2.9, 1.5],
+                    ],
+                )
+            },
             _ => return None,
         })
     }

@@ -55,7 +55,8 @@ pub fn parse_crop(c: &str) -> Result<Bounds> {
 /// Reveal depth in metres, or measured per window from the points behind the wall.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Reveal {
-    /// Measured (0.2 m where no points are behind the wall).
+    /// Measured from the reveal points; 0 for an open window without any (flush glazing),
+    /// 0.2 m for a chosen candidate no station saw into.
     Auto,
     Depth(f64),
 }
@@ -120,6 +121,8 @@ pub struct Simulate {
     pub resolution: f64,
     /// Range noise (standard deviation), metres.
     pub noise: f64,
+    /// Probability of a stray return beyond glass.
+    pub stray: f64,
     pub seed: u64,
 }
 
@@ -144,6 +147,7 @@ pub fn simulate_run(a: &Simulate, out: &mut dyn Write) -> Result<()> {
         stations,
         resolution: a.resolution,
         noise: a.noise,
+        stray: a.stray,
         seed: a.seed,
         ..Default::default()
     };
@@ -234,6 +238,8 @@ pub struct Reconstruct {
     pub materials: Option<String>,
     /// Unit of the input coordinates (`m`, `cm`, `mm`, `in`, `ft`).
     pub units: String,
+    /// Scanner stations in metres, replacing the input's.
+    pub stations: Option<Vec<[f64; 3]>>,
     pub params: ReconParams,
 }
 
@@ -312,6 +318,14 @@ pub fn reconstruct_run(a: &Reconstruct, out: &mut dyn Write, err: &mut dyn Write
     if s != 1.0 {
         cloud.scale(s);
     }
+    if let Some(st) = &a.stations {
+        // The input's per-point station numbers still name its stations when as many are
+        // given (the same survey, positions corrected); otherwise they name nothing.
+        if st.len() != cloud.stations.len() {
+            cloud.station_of = None;
+        }
+        cloud.stations = st.clone();
+    }
     cloud.check(name)?;
     let p = &a.params;
     let materials = match &a.materials {
@@ -329,6 +343,16 @@ pub fn reconstruct_run(a: &Reconstruct, out: &mut dyn Write, err: &mut dyn Write
     if let Some(j) = &a.json {
         let text = serde_json::to_string_pretty(&sum).map_err(|e| Error::Usage(e.to_string()))?;
         write_atomically(Path::new(j), |w| w.write_all(text.as_bytes()).at_path(j))?;
+    }
+    if r.stations_assumed
+        && let Some(st) = r.stations.first()
+    {
+        let _ = writeln!(
+            err,
+            "rrecon: note: {name} gives no scanner stations; windows were told from occlusion \
+             shadows as seen from one assumed at {:.2},{:.2},{:.2} (give --stations)",
+            st[0], st[1], st[2]
+        );
     }
     if a.selection == Selection::None {
         let _ = writeln!(err, "{}", candidates_note(&sum, p.openings.auto_min_area));

@@ -9,6 +9,11 @@
 //!   `noise` metres (2-5 mm is typical of these instruments at room ranges), up to `max_range`;
 //! - glass (`glass` material, and `trans`) returns nothing: the beam continues through it, so
 //!   windows appear as holes and whatever lies beyond is scanned as exterior points;
+//! - except for `stray` returns: a beam that crosses a pane returns, with probability `stray`,
+//!   a point between 0.05 and 5 m beyond it (uniform in range). Real scans of glazing show a
+//!   few such points: dirt and frames behind the pane, reflections, the first leaves of a tree;
+//!   with glazing flush in the wall (no reveals to scan) they are the only returns through
+//!   the window;
 //! - surfaces without a material (`void`) are invisible, occlusion is exact (one BVH).
 //!
 //! Every station gets its own deterministic random stream per azimuth column, so a seed gives
@@ -18,7 +23,7 @@ use super::cloud::PointCloud;
 use crate::error::{Error, Result};
 use crate::geometry::{Bvh, Object, Ray, Shape, Vec3};
 use crate::scene::{Primitive, Scene};
-use rand::SeedableRng;
+use rand::{Rng, SeedableRng};
 use rand_distr_free::normal;
 use rayon::prelude::*;
 
@@ -31,6 +36,8 @@ pub struct ScanOptions {
     /// Standard deviation of the range noise in metres.
     pub noise: f64,
     pub max_range: f64,
+    /// Probability that a beam crossing glass returns a stray point beyond it (0-1).
+    pub stray: f64,
     pub seed: u64,
 }
 
@@ -41,6 +48,7 @@ impl Default for ScanOptions {
             resolution: 0.25,
             noise: 0.003,
             max_range: 50.0,
+            stray: 0.0,
             seed: 1,
         }
     }
@@ -95,6 +103,12 @@ pub fn scan(scene: &Scene, opts: &ScanOptions) -> Result<PointCloud> {
     if opts.stations.is_empty() {
         return Err(Error::Usage("no scanner stations given".into()));
     }
+    if !(0.0..=1.0).contains(&opts.stray) {
+        return Err(Error::Usage(format!(
+            "stray return probability {}; expected 0-1",
+            opts.stray
+        )));
+    }
     if !(opts.resolution > 0.001 && opts.resolution <= 45.0) {
         return Err(Error::Usage(format!(
             "resolution {} degrees; expected 0.001-45",
@@ -139,6 +153,14 @@ pub fn scan(scene: &Scene, opts: &ScanOptions) -> Result<PointCloud> {
                         };
                         if passes[hit.object as usize] {
                             travelled += hit.t;
+                            // The draw is made only when stray returns are asked for, so
+                            // scans without them keep their random stream (and their points).
+                            if opts.stray > 0.0 && rng.random::<f64>() < opts.stray {
+                                let beyond = 0.05 + 4.95 * rng.random::<f64>();
+                                let r = travelled + beyond + opts.noise * normal(&mut rng);
+                                out.push((org + dir * r).to_array());
+                                break;
+                            }
                             ray = Ray::new(hit.point + dir * 1e-6, dir);
                             continue;
                         }
@@ -203,5 +225,66 @@ mod tests {
             assert!(shell || reveal, "{p:?}");
         }
         assert!(c.points.iter().any(|p| p[1] < -0.01), "reveals are scanned");
+    }
+
+    /// Flush glazing returns nothing, except the stray returns asked for, each on a beam
+    /// through a window and beyond it.
+    #[test]
+    fn stray_returns_lie_beyond_the_glass_and_only_there() {
+        let r = RoomSpec::named("flush").unwrap();
+        let opts = ScanOptions {
+            stations: r.stations.clone(),
+            resolution: 1.0,
+            noise: 0.0,
+            stray: 0.05,
+            ..Default::default()
+        };
+        let scene = r.scene().unwrap();
+        let outside = |p: &[f64; 3]| p[0] < -1e-6 || p[1] < -1e-6;
+        let none = scan(
+            &scene,
+            &ScanOptions {
+                stray: 0.0,
+                ..opts.clone()
+            },
+        )
+        .unwrap();
+        assert!(
+            !none.points.iter().any(outside),
+            "flush glazing: nothing beyond"
+        );
+        let c = scan(&scene, &opts).unwrap();
+        let stations = c.station_of.as_ref().unwrap();
+        let mut strays = 0;
+        for (p, &s) in c.points.iter().zip(stations) {
+            if !outside(p) {
+                continue;
+            }
+            strays += 1;
+            // Where the beam crossed the wall: the south wall y = 0 (window x 1.2-2.8, z
+            // 0.85-2.15) or the west wall x = 0 (arch y 2.3-3.4, z 0.9-2.45).
+            let st = Vec3::from(r.stations[s as usize]);
+            let d = Vec3::from(*p) - st;
+            let (k, lo, hi) = if p[1] < -1e-6 {
+                (1, [1.2, 0.85], [2.8, 2.15])
+            } else {
+                (0, [2.3, 0.9], [3.4, 2.45])
+            };
+            let t = -st[k] / d[k];
+            let q = st + d * t;
+            let (u, z) = (if k == 1 { q.x } else { q.y }, q.z);
+            assert!(
+                u > lo[0] - 1e-6 && u < hi[0] + 1e-6 && z > lo[1] - 1e-6 && z < hi[1] + 1e-6,
+                "{p:?} came through the wall at {u} {z}"
+            );
+            assert!((Vec3::from(*p) - q).length() >= 0.05 - 1e-9);
+        }
+        // A twentieth of the beams through two windows of 3.7 m2 at about 2-3 m.
+        assert!((30..3000).contains(&strays), "{strays}");
+        assert_eq!(
+            c,
+            scan(&scene, &opts).unwrap(),
+            "the same seed, the same strays"
+        );
     }
 }

@@ -49,6 +49,10 @@ pub struct Summary {
     pub edges: Watertight,
     pub cells: usize,
     pub timings: Timings,
+    /// Scanner stations used to tell windows from occlusion shadows; `stations_assumed` when
+    /// the input gave none.
+    pub stations: Vec<[f64; 3]>,
+    pub stations_assumed: bool,
     pub candidates: Vec<WallCandidates>,
 }
 
@@ -98,6 +102,8 @@ pub fn summarise(r: &Reconstruction) -> Summary {
         edges: r.watertight,
         cells: r.shell.cells,
         timings: r.timings.clone(),
+        stations: r.stations.clone(),
+        stations_assumed: r.stations_assumed,
         candidates: m
             .faces
             .iter()
