@@ -7,7 +7,11 @@ fuzz_target!(|data: &[u8]| {
     if let Ok(h) = rdaylight::formats::header::Header::read(&mut r, "fuzz") {
         let _ = h.format();
         let _ = h.exposure();
+        let _ = h.colorcorr();
+        let _ = h.pixaspect();
+        let _ = h.big_endian("fuzz");
+        let _ = h.get_usize("NROWS", "fuzz");
         let _ = h.wavelength_splits("fuzz");
-        let _ = rdaylight::radiometry::Channels::from_header(&h, "fuzz");
+        let _ = h.channels("fuzz");
     }
 });

@@ -5,8 +5,11 @@ use libfuzzer_sys::fuzz_target;
 use rdaylight::formats::matrix::{MatrixReader, ReadOptions};
 
 fuzz_target!(|data: &[u8]| {
-    let Ok(mut r) = MatrixReader::new(std::io::Cursor::new(data), "fuzz.mtx", &ReadOptions::default())
-    else {
+    let Ok(mut r) = MatrixReader::new(
+        std::io::Cursor::new(data),
+        "fuzz.mtx",
+        &ReadOptions::default(),
+    ) else {
         return;
     };
     let mut row = vec![0.0; r.row_len()];

@@ -5,8 +5,13 @@ use libfuzzer_sys::fuzz_target;
 use rdaylight::scene::{LoadOptions, parse_str};
 
 fuzz_target!(|data: &[u8]| {
-    let Ok(text) = std::str::from_utf8(data) else { return };
-    let opts = LoadOptions { allow_exec: false, ..LoadOptions::default() };
+    let Ok(text) = std::str::from_utf8(data) else {
+        return;
+    };
+    let opts = LoadOptions {
+        allow_exec: false,
+        ..LoadOptions::default()
+    };
     if let Ok(scene) = parse_str(text, "fuzz.rad", std::path::Path::new(""), &opts) {
         let _ = scene.bounding_box();
         let _ = scene.to_string();

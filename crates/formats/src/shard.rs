@@ -173,20 +173,21 @@ pub(crate) fn identity<'a>(header: &'a Header, piece: [&str; 2]) -> Vec<&'a str>
 /// Check that `shards` (name, header, NROWS) are all N shards of one run, in order, and
 /// return the unsharded header (shard 0's, `SHARD=` removed, `NROWS=` the total).
 pub fn merged_header(shards: &[(String, Header, usize)]) -> Result<Header> {
+    let Some((name0, h0, _)) = shards.first() else {
+        return Err(Error::Usage("no shards to merge".into()));
+    };
     let mut infos = Vec::with_capacity(shards.len());
     for (name, h, _) in shards {
         match ShardInfo::of(h, name)? {
             Some(i) => infos.push(i),
             None => {
                 return Err(Error::Mismatch(format!(
-                    "{name} has no {SHARD_VAR}= line but {} has: merge rdc shards only with \
-                     each other",
-                    shards[0].0
+                    "{name} has no {SHARD_VAR}= line but {name0} has: merge rdc shards only \
+                     with each other"
                 )));
             }
         }
     }
-    let (name0, h0, _) = &shards[0];
     let pieces: Vec<(&str, ShardInfo, usize)> = shards
         .iter()
         .zip(&infos)
@@ -840,5 +841,15 @@ mod tests {
                 .contains("a is shard 1/4 but comes in position 0"),
             "{e}"
         );
+    }
+
+    /// Fuzzing (fuzz/README.md, `hours` target): merging no shards indexed the first one
+    /// and panicked; it is an error, as for hour chunks.
+    #[test]
+    fn merging_no_shards_is_an_error() {
+        let e = merged_header(&[]).unwrap_err().to_string();
+        assert_eq!(e, "no shards to merge");
+        let e = crate::hours::merged_header(&[]).unwrap_err().to_string();
+        assert_eq!(e, "no hour chunks to merge");
     }
 }

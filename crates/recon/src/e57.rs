@@ -7,16 +7,24 @@
 use super::cloud::PointCloud;
 use crate::error::{Error, Location, Result};
 use e57::{CartesianCoordinate, E57Reader};
+use std::io::{Read, Seek};
 
 /// Read every scan of an E57 file.
 pub fn read(path: &str) -> Result<PointCloud> {
+    let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
+    read_from(std::io::BufReader::new(file), path)
+}
+
+/// Read every scan of an E57 stream (`name` for messages): what [`read`] does after
+/// opening the file, and what the fuzz target feeds bytes to.
+pub fn read_from<R: Read + Seek>(stream: R, name: &str) -> Result<PointCloud> {
     let fail = |what: &str, e: e57::Error| {
         Error::parse(
-            Location::file(path),
+            Location::file(name),
             format!("{what}: {e}; expected an ASTM E57 file (convert it to PLY if it is not)"),
         )
     };
-    let mut reader = E57Reader::from_file(path).map_err(|e| fail("cannot open E57", e))?;
+    let mut reader = E57Reader::new(stream).map_err(|e| fail("cannot open E57", e))?;
     let mut cloud = PointCloud::default();
     let mut colors: Vec<[u8; 3]> = Vec::new();
     let mut any_color = false;
@@ -24,7 +32,7 @@ pub fn read(path: &str) -> Result<PointCloud> {
     let scans = reader.pointclouds();
     if scans.len() > usize::from(u16::MAX) {
         return Err(Error::parse(
-            Location::file(path),
+            Location::file(name),
             format!("{} scans; at most {} are supported", scans.len(), u16::MAX),
         ));
     }

@@ -263,20 +263,22 @@ impl LabelMap {
     /// Read a mask picture.
     pub fn open(path: &Path, legend: Option<Legend>) -> Result<Self> {
         let shown = path.display().to_string();
-        let dims = image::ImageReader::open(path)
-            .map_err(|e| Error::io(&shown, e))?
+        let bytes = std::fs::read(path).map_err(|e| Error::io(&shown, e))?;
+        Self::from_bytes(&bytes, legend, &shown)
+    }
+
+    /// Decode a mask picture from memory (`name` for messages; the format is recognised by
+    /// its content), its size checked from the header before any pixel is decoded.
+    pub fn from_bytes(bytes: &[u8], legend: Option<Legend>, name: &str) -> Result<Self> {
+        let dims = image::ImageReader::new(std::io::Cursor::new(bytes))
             .with_guessed_format()
-            .map_err(|e| Error::io(&shown, e))?
+            .map_err(|e| Error::io(name, e))?
             .into_dimensions();
-        rdaylight_formats::picture::preview::check_photo_size(dims, &shown)?;
-        let img = image::open(path).map_err(|e| match e {
-            image::ImageError::IoError(e) => Error::io(&shown, e),
-            other => Error::parse(
-                Location::file(&shown),
-                format!("not a PNG mask picture: {other}"),
-            ),
+        rdaylight_formats::picture::preview::check_photo_size(dims, name)?;
+        let img = image::load_from_memory(bytes).map_err(|e| {
+            Error::parse(Location::file(name), format!("not a PNG mask picture: {e}"))
         })?;
-        Self::from_image(&img.to_rgb8(), legend, &shown)
+        Self::from_image(&img.to_rgb8(), legend, name)
     }
 
     /// Label of pixel (`x` from the left, `y` from the top); `None` outside.
@@ -418,5 +420,23 @@ mod tests {
         assert_eq!(auto.get(5, 3), None);
         assert!(auto.check_size(6, 4, "x").is_ok());
         assert!(auto.check_size(6, 5, "x").is_err());
+    }
+
+    #[test]
+    fn masks_decode_from_memory_as_from_disk() {
+        let mut png = Vec::new();
+        picture()
+            .write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)
+            .unwrap();
+        let m = LabelMap::from_bytes(&png, None, "m.png").unwrap();
+        assert_eq!(m, LabelMap::from_image(&picture(), None, "m.png").unwrap());
+        let d = tempfile::tempdir().unwrap();
+        let path = d.path().join("m.png");
+        std::fs::write(&path, &png).unwrap();
+        assert_eq!(LabelMap::open(&path, None).unwrap().labels, m.labels);
+        let e = LabelMap::from_bytes(&png[..png.len() / 2], None, "cut.png")
+            .unwrap_err()
+            .to_string();
+        assert!(e.starts_with("cut.png: not a PNG mask picture"), "{e}");
     }
 }

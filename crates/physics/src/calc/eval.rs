@@ -10,7 +10,9 @@
 //! Evaluation is pure: nothing is cached between calls and no global state is touched, so
 //! one [`super::Program`] can be shared by every thread of a render. Runaway recursion
 //! (`x = x + 1`) is stopped at [`MAX_EVAL_DEPTH`] nested evaluations with an error naming
-//! the definition.
+//! the definition, and recursion that branches (`f(x) = if(x, f(x-1) + f(x-1), 1)`, whose
+//! depth stays small while its calls double per level) at [`MAX_EVAL_CALLS`] evaluations of
+//! definitions. Radiance has neither bound: it overflows its stack or runs for ever.
 
 use std::cell::Cell;
 
@@ -20,6 +22,13 @@ use crate::error::{Error, Location};
 
 /// Deepest evaluation nesting (expression levels plus calls) before giving up.
 pub const MAX_EVAL_DEPTH: usize = 1000;
+
+/// Most evaluations of definitions (variables and function calls) in one evaluation before
+/// giving up: a million. The patterns and `rcalc` expressions in use evaluate a few dozen
+/// per ray or record; one that needed a million per ray would make a render take days.
+/// Fuzzing found that `f(60)` with `f(x) = if(x, f(x-1) + f(x-1), 1)` (2^60 calls at
+/// depth 60) ran for ever.
+pub const MAX_EVAL_CALLS: u64 = 1_000_000;
 
 /// A linked expression.
 #[derive(Debug, Clone, PartialEq)]
@@ -137,9 +146,35 @@ pub(super) fn binop(op: Op, a: f64, b: f64) -> f64 {
 pub(super) struct Eval<'p> {
     pub defs: &'p [Def],
     pub inputs: Inputs<'p>,
+    /// Definitions evaluated so far (bounded by [`MAX_EVAL_CALLS`]).
+    pub calls: Cell<u64>,
 }
 
 impl<'p> Eval<'p> {
+    pub(super) fn new(defs: &'p [Def], inputs: Inputs<'p>) -> Self {
+        Eval {
+            defs,
+            inputs,
+            calls: Cell::new(0),
+        }
+    }
+
+    /// Count one evaluation of `def`; an error once there have been too many.
+    fn count(&self, def: &Def) -> crate::Result<()> {
+        let n = self.calls.get() + 1;
+        self.calls.set(n);
+        if n > MAX_EVAL_CALLS {
+            return Err(Error::parse(
+                def.at.clone(),
+                format!(
+                    "evaluating '{}' takes more than {MAX_EVAL_CALLS} evaluations of definitions (a function that calls itself more than once per level?)",
+                    def.name
+                ),
+            ));
+        }
+        Ok(())
+    }
+
     fn too_deep(&self, what: &str, at: &Location) -> Error {
         Error::parse(
             at.clone(),
@@ -175,6 +210,7 @@ impl<'p> Eval<'p> {
                 if depth >= MAX_EVAL_DEPTH {
                     return Err(self.too_deep(&def.name, &def.at));
                 }
+                self.count(def)?;
                 self.eval(&def.body, None, depth + 1)?
             }
             Expr::Param(i) => return self.param(*i, f, depth),
@@ -317,6 +353,7 @@ impl<'p> Eval<'p> {
                 if depth >= MAX_EVAL_DEPTH {
                     return Err(self.too_deep(&def.name, &def.at));
                 }
+                self.count(def)?;
                 self.eval(&def.body, Some(&frame), depth + 1)
             }
             Callee::Lib(l) => {

@@ -188,11 +188,7 @@ impl Program {
 
     /// Evaluate an expression from [`Program::expr`].
     pub fn eval(&self, e: &Expr, inputs: Inputs<'_>) -> Result<f64> {
-        Eval {
-            defs: &self.defs,
-            inputs,
-        }
-        .eval(e, None, 0)
+        Eval::new(&self.defs, inputs).eval(e, None, 0)
     }
 
     /// Whether evaluating `e` can read the ray (`$n`, `Dx`..., `D(i)`...): a static check
@@ -270,11 +266,7 @@ impl Program {
 
     /// Call a function handle with argument values.
     pub fn call(&self, f: &Function, args: &[f64], inputs: Inputs<'_>) -> Result<f64> {
-        Eval {
-            defs: &self.defs,
-            inputs,
-        }
-        .call(&f.callee, Frame::values(&f.name, args), 0)
+        Eval::new(&self.defs, inputs).call(&f.callee, Frame::values(&f.name, args), 0)
     }
 }
 
@@ -373,6 +365,27 @@ mod tests {
         assert_eq!(ev(&ok, "a").unwrap(), 1.0);
         let minus = format!("a = {}1;", "-(".repeat(5000));
         assert!(Program::parse(&minus, "d.cal").is_err());
+    }
+
+    /// Fuzzing (fuzz/README.md, `cal` target): recursion that branches stays shallow while
+    /// its calls double per level, so the depth bound never fired and `f(60)` ran for ever.
+    #[test]
+    fn branching_recursion_is_an_error_not_a_hang() {
+        let p = Program::parse("f(x) = if(x, f(x-1)+f(x-1), 1);", "x.cal").unwrap();
+        let e = p.expr("f(60)", "e").unwrap();
+        let err = p.eval(&e, Inputs::default()).unwrap_err().to_string();
+        assert_eq!(
+            err,
+            "x.cal:1:1: evaluating 'f' takes more than 1000000 evaluations of definitions (a \
+             function that calls itself more than once per level?)"
+        );
+        // 2^16 calls are fine, and each evaluation starts a fresh count.
+        let e = p.expr("f(16)", "e").unwrap();
+        for _ in 0..3 {
+            assert_eq!(p.eval(&e, Inputs::default()).unwrap(), 65536.0);
+        }
+        let f = p.function("f").unwrap();
+        assert!(p.call(&f, &[60.0], Inputs::default()).is_err());
     }
 
     #[test]

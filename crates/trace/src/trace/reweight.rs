@@ -105,6 +105,12 @@ use std::io::Write;
 pub const MAX_EVENTS: usize = 16;
 /// Tracked materials at most (signature entries are bytes, 0 = empty).
 pub const MAX_TRACKED: usize = 255;
+/// Most coefficients (`nrows x ncols x ncomp`) a re-weighting file may stand for: 2^28,
+/// what [`Reweighting::apply`] returns as one dense `f64` matrix (2 GiB). A header is a
+/// few bytes, so without a bound it could make `apply` allocate anything (fuzzing found
+/// `"ncols":10000000000000`); the largest studies (10,000 sensors, 2306 columns, 3
+/// channels: 69 million) stay well below it.
+pub const MAX_COEFFICIENTS: usize = 1 << 28;
 const FORMAT_NAME: &str = "rdaylight-reweight";
 
 /// The multiset of tracked materials a path met: 1-based material numbers in ascending
@@ -657,14 +663,31 @@ impl Reweighting {
                 ),
             ));
         }
-        if h.max_events != MAX_EVENTS || h.ncomp == 0 || h.materials.len() > MAX_TRACKED {
+        let max_ncomp = crate::radiometry::MAX_SAMPLES;
+        if h.max_events != MAX_EVENTS
+            || !(1..=max_ncomp).contains(&h.ncomp)
+            || h.materials.len() > MAX_TRACKED
+        {
             return Err(err(
                 0,
                 format!(
-                    "max_events {}, ncomp {}, {} materials; expected {MAX_EVENTS}, >= 1, at most {MAX_TRACKED}",
+                    "max_events {}, ncomp {}, {} materials; expected {MAX_EVENTS}, 1 to {max_ncomp}, at most {MAX_TRACKED}",
                     h.max_events,
                     h.ncomp,
                     h.materials.len()
+                ),
+            ));
+        }
+        let coefficients = h
+            .nrows
+            .checked_mul(h.ncols)
+            .and_then(|n| n.checked_mul(h.ncomp));
+        if coefficients.is_none_or(|n| n > MAX_COEFFICIENTS) {
+            return Err(err(
+                0,
+                format!(
+                    "{} rows x {} columns x {} channels; expected at most {MAX_COEFFICIENTS} coefficients (split the sensors into rdc runs of fewer rows)",
+                    h.nrows, h.ncols, h.ncomp
                 ),
             ));
         }
@@ -910,5 +933,33 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.starts_with("x.rw: byte 0: header"), "{e}");
+    }
+
+    /// Fuzzing (fuzz/README.md, `reweight` target): a header claiming 10^13 columns read
+    /// without complaint and made `apply` allocate 80 TB; one claiming 2^61 channels
+    /// overflowed the term size. Both are errors naming the sizes.
+    #[test]
+    fn huge_header_sizes_are_errors() {
+        let file = |nrows: u64, ncols: u64, ncomp: u64| {
+            let mut b = format!(
+                "{{\"format\":\"rdaylight-reweight\",\"version\":2,\"nrows\":{nrows},\
+                 \"ncols\":{ncols},\"ncomp\":{ncomp},\"materials\":[\"a\"],\"entries\":[],\
+                 \"max_events\":16,\"command\":\"\"}}\n"
+            )
+            .into_bytes();
+            b.extend(0u32.to_le_bytes());
+            Reweighting::parse(&b, "x.rw").map(|rw| rw.size())
+        };
+        let e = file(1, 10_000_000_000_000, 1).unwrap_err().to_string();
+        assert_eq!(
+            e,
+            "x.rw: byte 0: 1 rows x 10000000000000 columns x 1 channels; expected at most \
+             268435456 coefficients (split the sensors into rdc runs of fewer rows)"
+        );
+        let e = file(1, 3, 1 << 61).unwrap_err().to_string();
+        assert!(e.contains("ncomp 2305843009213693952,"), "{e}");
+        assert!(e.contains("expected 16, 1 to 24,"), "{e}");
+        assert!(file(u64::MAX, u64::MAX, 3).is_err());
+        assert_eq!(file(1, 3, 3).unwrap(), (0, 0));
     }
 }

@@ -1,0 +1,13 @@
+//! Any bytes fed to the XYZ text (x y z, optional normals and colours) point-cloud reader give a cloud or Err, never a panic or an
+//! unbounded allocation; a cloud that reads has one entry per point in each per-point array.
+#![no_main]
+use libfuzzer_sys::fuzz_target;
+
+#[path = "cloud_common.rs"]
+mod cloud_common;
+
+fuzz_target!(|data: &[u8]| {
+    if let Ok(c) = rdaylight::recon::xyz::read(data, "fuzz.xyz") {
+        cloud_common::check(&c);
+    }
+});
