@@ -343,7 +343,12 @@ impl SpectralInputs {
             self.sensors.clone(),
             &self.weather,
             &readings,
-            opts,
+            // The spectral simulation's skies are gendaymtx's (per band, as rspecsky
+            // makes them); its photopic companion must see the same sky.
+            &Options {
+                sky: super::simulate::StepSkyModel::Gendaymtx,
+                ..opts.clone()
+            },
         )
     }
 

@@ -203,7 +203,12 @@ impl SpectralCase {
             self.sensors.clone(),
             &self.weather,
             &readings,
-            opts,
+            // The spectral simulation's skies are gendaymtx's (per band, as rspecsky
+            // makes them); its photopic companion must see the same sky.
+            &Options {
+                sky: crate::simulate::StepSkyModel::Gendaymtx,
+                ..opts.clone()
+            },
         )
     }
 }
