@@ -479,6 +479,15 @@ pub fn describe(path: &str, detail: Detail, load: &crate::scene::LoadOptions) ->
                  matrix or picture (written with -h?) cannot be described",
             );
         }
+        Kind::Radiance
+            if !matches!(detail, Detail::Header)
+                && crate::scene::is_octree(r.fill_buf().at_path(path)?) =>
+        {
+            return Err(Error::Usage(format!(
+                "{path} is a Radiance octree (oconv output): it has no dimensions or \
+                 statistics; rinfo without -d/--stats shows its header"
+            )));
+        }
         Kind::Radiance => match detail {
             Detail::Dimensions => format!("{path}: {}\n", dimensions(r, path)?),
             Detail::Stats => stats(r, path)?,

@@ -73,15 +73,26 @@ pub fn parse_reveal(d: &str) -> Result<Reveal> {
     }
 }
 
-/// Text of `path` (`-`: standard input).
+/// Text of scene file `path` (`-`: standard input); an octree, picture or other file that
+/// is not scene text is named as such ([`scene::check_is_scene`]).
 fn read_text(path: &str) -> Result<String> {
-    if path == "-" {
-        let mut s = String::new();
-        std::io::stdin().read_to_string(&mut s).at_path("<stdin>")?;
-        Ok(s)
+    let mut bytes = Vec::new();
+    let shown = if path == "-" {
+        std::io::stdin()
+            .read_to_end(&mut bytes)
+            .at_path("<stdin>")?;
+        "<stdin>"
     } else {
-        std::fs::read_to_string(path).at_path(path)
-    }
+        bytes = std::fs::read(path).at_path(path)?;
+        path
+    };
+    scene::check_is_scene(&bytes, shown)?;
+    String::from_utf8(bytes).map_err(|e| {
+        Error::io(
+            shown,
+            std::io::Error::new(std::io::ErrorKind::InvalidData, e.utf8_error()),
+        )
+    })
 }
 
 /// A `.rad` file (`-`: standard input) as a scene, and its text.
