@@ -27,6 +27,7 @@ GLoD1/2/3 add objects whose smallest oriented bounding box has a surface area of
 #[command(
     name = "rglod",
     version,
+    propagate_version = true,
     about = "Geometrical Levels of Detail: group a scene into objects, size them by their \
              oriented bounding box, and write the scene at GLoD0-4",
     after_help = EXAMPLES

@@ -33,6 +33,7 @@ What a Radiance user does instead: a loop that edits the materials (500 draws x 
 #[command(
     name = "rmcop",
     version,
+    propagate_version = true,
     about = "Material Classes of Precision: how material measurement error moves annual \
              daylight metrics, by re-weighting the paths of one trace per GLoD",
     after_help = EXAMPLES,
