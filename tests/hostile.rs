@@ -734,3 +734,16 @@ fn octrees_and_other_files_given_as_scenes_are_named() {
     let e = one_line_error("rdc", &["-I", &epw.display().to_string()], b"0 0 1 0 0 1\n");
     assert!(e.contains("is a weather file (EPW), not a scene"), "{e}");
 }
+
+/// `rglod filter -l 0 room.rad | rinfo -` (rglod's own example) said "-: 0 objects": rinfo
+/// read standard input to judge its kind, then loaded "-" again and found it empty.
+#[test]
+fn rinfo_describes_a_scene_on_standard_input() {
+    let scene = format!("{MATERIAL}m polygon p 0 0 9 0 0 0 1 0 0 0 1 0\n");
+    let out = run_ok(ours("rinfo").arg("-"), scene.as_bytes());
+    let text = String::from_utf8_lossy(&out);
+    assert!(
+        text.starts_with("-: 2 objects (1 surfaces, 1 modifiers)"),
+        "{text}"
+    );
+}

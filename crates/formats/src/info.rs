@@ -534,6 +534,15 @@ pub fn describe(path: &str, detail: Detail, load: &crate::scene::LoadOptions) ->
                  weather_data_file_units) first",
             );
         }
+        // Standard input was read into `r` to detect its kind: parse what `r` holds (loading
+        // "-" again found nothing, so `... | rinfo -` said "0 objects").
+        Kind::Scene | Kind::Empty if path == "-" => {
+            let mut bytes = Vec::new();
+            r.read_to_end(&mut bytes).at_path("<stdin>")?;
+            let text = String::from_utf8_lossy(&bytes);
+            let scene = crate::scene::parse_str(&text, "<stdin>", std::path::Path::new(""), load)?;
+            describe_scene(&scene, path)
+        }
         Kind::Scene | Kind::Empty => {
             drop(r);
             describe_scene(&crate::scene::load(&[path], load)?, path)
