@@ -1,8 +1,8 @@
 //! `--help` and `--version` in every tool and every subcommand (issue #21: `--version` was
 //! refused by every clap subcommand, e.g. `rcalib compare --version`, and nothing checked
-//! the subcommands). The tools and subcommands come from `rdaylight::cli::commands()`, the
-//! clap definitions of every tool, so a new subcommand is covered without touching this
-//! file.
+//! the subcommands), man pages and shell completions. The tools and subcommands come from
+//! `rdaylight::cli::commands()`, the clap definitions the man pages and completions are
+//! made from, so a new subcommand is covered without touching this file.
 
 mod common;
 use common::{ours, run};
@@ -165,4 +165,122 @@ fn rglare_descriptions_match_the_parsers() {
         matches!(&r, Err(e) if e.to_string().contains("unknown")),
         "{r:?}"
     );
+}
+
+/// Man pages (issue #21): one per tool with NAME, SYNOPSIS, its options and an EXAMPLES
+/// section of real pipelines, and one per subcommand; `man -l` renders each without a
+/// warning where `man` is installed.
+#[test]
+fn man_pages_for_every_tool_and_subcommand() {
+    let d = common::tmpdir();
+    let files = rdaylight::cli::manual::write_man_pages(d.path()).unwrap();
+    for (tool, path) in invocations() {
+        let page = if path.is_empty() {
+            tool.clone()
+        } else {
+            format!("{tool}-{}", path.join("-"))
+        };
+        let file = d.path().join(format!("{page}.1"));
+        assert!(files.contains(&file), "{page}.1 not written");
+        let text = std::fs::read_to_string(&file).unwrap();
+        for section in [
+            ".SH NAME",
+            ".SH SYNOPSIS",
+            ".SH \"EXIT STATUS\"",
+            ".SH \"SEE ALSO\"",
+        ] {
+            assert!(text.contains(section), "{page}.1 has no {section}");
+        }
+        if path.is_empty() {
+            assert!(text.contains(".SH EXAMPLES"), "{page}.1 has no EXAMPLES");
+            // Real pipelines: the tool among others, joined by a pipe or by files.
+            let examples = &text[text.find(".SH EXAMPLES").unwrap()..];
+            assert!(
+                examples.contains(&format!("{tool} ")),
+                "{page}.1: {examples}"
+            );
+            assert!(
+                examples.contains(" | ") || examples.lines().any(|l| l.ends_with('|')),
+                "{page}.1: no pipeline in EXAMPLES"
+            );
+        }
+    }
+    // The options of a clap tool and of a hand-parsed one are there.
+    let rdc = std::fs::read_to_string(d.path().join("rdc.1")).unwrap();
+    assert!(
+        rdc.contains("\\-\\-ab") && rdc.contains("\\-\\-no\\-exec"),
+        "{rdc}"
+    );
+    let annual = std::fs::read_to_string(d.path().join("rglare-annual.1")).unwrap();
+    assert!(
+        annual.contains("\\-\\-views") && annual.contains("EN 17037"),
+        "{annual}"
+    );
+
+    let Ok(probe) = std::process::Command::new("man").arg("--version").output() else {
+        eprintln!("man_pages_for_every_tool_and_subcommand: no man(1); rendering not checked");
+        return;
+    };
+    if !probe.status.success() {
+        return;
+    }
+    for file in &files {
+        let out = std::process::Command::new("man")
+            .arg("-l")
+            .arg(file)
+            .env("MANWIDTH", "80")
+            .env("MAN_KEEP_FORMATTING", "0")
+            .output()
+            .unwrap();
+        // Bold and underline come as overstrikes (`N\x08N`) when man writes to a pipe.
+        let mut shown = String::new();
+        for c in String::from_utf8_lossy(&out.stdout).chars() {
+            if c == '\x08' {
+                shown.pop();
+            } else {
+                shown.push(c);
+            }
+        }
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(out.status.success(), "man -l {}: {err}", file.display());
+        assert!(err.trim().is_empty(), "man -l {}: {err}", file.display());
+        for section in ["NAME", "SYNOPSIS", "EXIT STATUS"] {
+            assert!(shown.contains(section), "{}: {shown}", file.display());
+        }
+    }
+}
+
+/// Shell completions (bash, zsh, fish) for every tool; bash's parse where bash is installed.
+#[test]
+fn shell_completions_for_every_tool() {
+    let d = common::tmpdir();
+    let files = rdaylight::cli::manual::write_completions(d.path()).unwrap();
+    for cmd in rdaylight::cli::commands() {
+        let tool = cmd.get_name();
+        for (dir, name) in [
+            ("bash", tool.to_string()),
+            ("zsh", format!("_{tool}")),
+            ("fish", format!("{tool}.fish")),
+        ] {
+            let f = d.path().join(dir).join(&name);
+            assert!(files.contains(&f), "{dir}/{name} not written");
+            let text = std::fs::read_to_string(&f).unwrap();
+            assert!(text.contains(tool), "{dir}/{name}");
+        }
+        let bash = d.path().join("bash").join(tool);
+        if let Ok(out) = std::process::Command::new("bash")
+            .arg("-n")
+            .arg(&bash)
+            .output()
+        {
+            assert!(
+                out.status.success(),
+                "bash -n {tool}: {}",
+                String::from_utf8_lossy(&out.stderr)
+            );
+        }
+    }
+    // Subcommands are completed.
+    let fish = std::fs::read_to_string(d.path().join("fish/rcalib.fish")).unwrap();
+    assert!(fish.contains("explain"), "{fish}");
 }

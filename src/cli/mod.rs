@@ -7,6 +7,7 @@
 
 pub mod glare;
 pub mod glare_annual;
+pub mod manual;
 pub mod rcalib;
 pub mod rdc;
 pub mod rglod;
