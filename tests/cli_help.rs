@@ -284,3 +284,58 @@ fn shell_completions_for_every_tool() {
     let fish = std::fs::read_to_string(d.path().join("fish/rcalib.fish")).unwrap();
     assert!(fish.contains("explain"), "{fish}");
 }
+
+/// Progress (issue #21): nothing on standard error in a pipe; on a terminal the stages are
+/// drawn there in the shared wording, and standard output has the same bytes either way.
+/// The terminal is `script`'s pseudo-terminal, where util-linux is installed.
+#[test]
+fn progress_is_drawn_on_a_terminal_only_and_never_touches_the_output() {
+    let d = common::tmpdir();
+    let room = common::repo().join("examples/room");
+    let args = format!(
+        "-I -h -ab 2 -ad 4096 -lw 1e-3 -m 1 -faf {} {}",
+        room.join("room.rad").display(),
+        room.join("skydome.rad").display()
+    );
+    let sensors = std::fs::read(room.join("sensors.pts")).unwrap();
+    let piped = run(ours("rdc").args(args.split(' ')), &sensors);
+    assert!(piped.status.success());
+    assert!(
+        piped.stderr.is_empty(),
+        "{}",
+        String::from_utf8_lossy(&piped.stderr)
+    );
+    let Ok(probe) = std::process::Command::new("script")
+        .arg("--version")
+        .output()
+    else {
+        eprintln!("progress test: no script(1); the terminal case is not checked");
+        return;
+    };
+    if !probe.status.success() {
+        return;
+    }
+    let out = d.path().join("dc.mtx");
+    let cmd = format!(
+        "{} {args} < {} > {}",
+        env!("CARGO_BIN_EXE_rdc"),
+        room.join("sensors.pts").display(),
+        out.display()
+    );
+    let tty = std::process::Command::new("script")
+        .args(["-qfec", &cmd, "/dev/null"])
+        .env("TERM", "xterm")
+        .stdin(std::process::Stdio::null())
+        .output()
+        .unwrap();
+    assert!(
+        tty.status.success(),
+        "{}",
+        String::from_utf8_lossy(&tty.stderr)
+    );
+    let drawn = String::from_utf8_lossy(&tty.stdout);
+    assert!(drawn.contains("rdc: tracing"), "{drawn}");
+    assert!(drawn.contains("/165 records, "), "{drawn}");
+    // -h: no header, so no time stamps; the matrix has the piped run's bytes.
+    assert_eq!(std::fs::read(&out).unwrap(), piped.stdout);
+}

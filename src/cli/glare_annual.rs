@@ -681,12 +681,7 @@ pub fn run(raw: &[String]) -> Result<()> {
     let sched = args.schedule.build(weather.steps.len(), &args.weather)?;
     let items = args.view_items()?;
     let shown = args.shard.map_or(0..items.len(), |s| s.rows(items.len()));
-    let show = crate::io::show_progress();
-    let progress = |what: &str| {
-        if show {
-            eprintln!("rglare annual: {what}");
-        }
-    };
+    let progress = super::progress::Bars::stderr("rglare annual");
     let base = args.rdc.to_config()?;
     let mut load = crate::scene::LoadOptions::from_env();
     load.allow_exec &= !args.rdc.no_exec;
@@ -696,8 +691,7 @@ pub fn run(raw: &[String]) -> Result<()> {
         let item = &items[i];
         let rays = ViewRays::new(&item.view, args.grid)?;
         let c = annual::coefficients(&base, &scene, &rays, &args.weather, args.eye_ad, &progress)?;
-        progress("time steps");
-        let results = annual::evaluate(&c, &rays, &weather, &args.opts)?;
+        let results = annual::evaluate(&c, &rays, &weather, &args.opts, &progress)?;
         let summary = annual::summary(&results, &sched.occupied, args.opts.limit);
         let mut text = match (&args.views, item.line) {
             (Some(f), Some(l)) => {

@@ -8,6 +8,7 @@
 pub mod glare;
 pub mod glare_annual;
 pub mod manual;
+pub mod progress;
 pub mod rcalib;
 pub mod rdc;
 pub mod rglod;

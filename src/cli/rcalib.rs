@@ -319,6 +319,7 @@ impl SimArgs {
             cache: (!self.no_cache).then(|| self.cache.clone()),
             classes: classes(&self.classes)?,
             reflectance,
+            progress: super::progress::Bars::reporter("rcalib"),
         })
     }
 }

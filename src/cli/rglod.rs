@@ -305,12 +305,7 @@ pub fn run(opts: &Options, out: &mut dyn Write) -> Result<()> {
             let weather = crate::formats::weather::Weather::read_path(weather)?;
             let sensors = crate::formats::sensors::read_sensor_path(pts)?;
             let (scene, a) = common.analyse()?;
-            let show = crate::io::show_progress();
-            let progress = |what: &str| {
-                if show {
-                    eprintln!("rglod study: tracing {what}");
-                }
-            };
+            let progress = super::progress::Bars::stderr("rglod study");
             let results = glod::study::study(&scene, &a, &weather, &sensors, &cfg, &progress)?;
             if let Some(dir) = maps {
                 write_maps(dir, &results, &sensors)?;

@@ -13,6 +13,7 @@ use super::simulate::{Settings, Simulator, step_skies, subset_wea};
 use crate::error::{Error, Result};
 use crate::formats::sensors::Sensor;
 use crate::formats::weather::Weather;
+use crate::progress::Reporter;
 use crate::scene::{self, LoadOptions, Scene};
 use std::path::PathBuf;
 
@@ -24,6 +25,8 @@ pub struct Options {
     pub classes: Vec<(String, SurfaceClass)>,
     /// Re-trace reflectance sensitivities (explain needs them; compare does not).
     pub reflectance: bool,
+    /// Where traced runs report (quiet by default; the tool draws bars).
+    pub progress: Reporter,
 }
 
 impl Default for Options {
@@ -33,6 +36,7 @@ impl Default for Options {
             cache: None,
             classes: Vec::new(),
             reflectance: false,
+            progress: Reporter::quiet(),
         }
     }
 }
@@ -65,7 +69,8 @@ pub fn build(
         &sensors,
         subset_wea(weather, &idx),
         &skies,
-    )?;
+    )?
+    .with_progress(opts.progress.clone());
     let dcs = simulator.dcs(scene)?;
     let room = Room::new(scene, sensor_centroid(&sensors), &opts.classes);
     Model::build(

@@ -11,9 +11,10 @@ use crate::model::fix_t_junctions;
 use crate::openings::Selection;
 use crate::rooms::{ROOMS, RoomSpec};
 use crate::simulate::{ScanOptions, scan, stations_in_text};
-use crate::{ReconParams, eval, ply, radout, read_cloud, reconstruct, review, summary};
+use crate::{ReconParams, eval, ply, radout, read_cloud, reconstruct_reporting, review, summary};
 use rdaylight_base::error::{Error, IoContext, Result};
 use rdaylight_base::io::write_atomically;
+use rdaylight_base::progress::{Progress, Stage};
 use rdaylight_formats::scene::{self, LoadOptions, Scene};
 use std::io::{Read, Write};
 use std::path::Path;
@@ -134,8 +135,9 @@ pub struct Simulate {
     pub seed: u64,
 }
 
-/// Run `rrecon simulate`: the scan as binary PLY on `out`.
-pub fn simulate_run(a: &Simulate, out: &mut dyn Write) -> Result<()> {
+/// Run `rrecon simulate`: the scan as binary PLY on `out`; the scan is a stage of
+/// `progress`.
+pub fn simulate_run(a: &Simulate, out: &mut dyn Write, progress: &dyn Progress) -> Result<()> {
     let (scene, text) = load_scene(&a.scene)?;
     let mut stations = a
         .stations
@@ -158,7 +160,9 @@ pub fn simulate_run(a: &Simulate, out: &mut dyn Write) -> Result<()> {
         seed: a.seed,
         ..Default::default()
     };
+    let stage = Stage::uncounted(progress, "simulating the scan");
     let cloud = scan(&scene, &opts)?;
+    drop(stage);
     output(None, out, |w| ply::write(w, &cloud).at_path("<stdout>"))
 }
 
@@ -315,9 +319,17 @@ fn candidates_note(sum: &summary::Summary, auto_min_area: f64) -> String {
 
 /// Run the reconstruction: the `.rad` model to `a.output` or `out`, the review and JSON
 /// files, and notes (candidates when none were cut, an open model) on `err`.
-pub fn reconstruct_run(a: &Reconstruct, out: &mut dyn Write, err: &mut dyn Write) -> Result<()> {
+/// The steps are stages of `progress`.
+pub fn reconstruct_run(
+    a: &Reconstruct,
+    out: &mut dyn Write,
+    err: &mut dyn Write,
+    progress: &dyn Progress,
+) -> Result<()> {
     let input = a.input.as_str();
+    let stage = Stage::uncounted(progress, "reading the scan");
     let mut cloud = read_cloud(input)?;
+    drop(stage);
     let name = if input == "-" { "<stdin>" } else { input };
     let s = unit_scale(&a.units)?;
     if s != 1.0 {
@@ -329,7 +341,7 @@ pub fn reconstruct_run(a: &Reconstruct, out: &mut dyn Write, err: &mut dyn Write
         Some(m) => Some(load_scene(m)?.0),
         None => None,
     };
-    let r = reconstruct(cloud, p, &a.selection)?;
+    let r = reconstruct_reporting(cloud, p, &a.selection, progress)?;
     let mut polys = r.model.polygons();
     fix_t_junctions(&mut polys, 1e-6);
     let scene = radout::to_scene(&polys, materials.as_ref())?;
