@@ -239,18 +239,29 @@ pub fn man_page(cmd: &Command, tool: &str, w: &mut dyn Write) -> std::io::Result
 }
 
 /// The examples of a `--help` text for the EXAMPLES section: its own `Examples:` heading
-/// dropped (the section is the heading) and the lines under it moved left.
+/// dropped (the section is the heading; notes before it stay, a blank line apart) and the
+/// lines under it moved left.
 fn help_examples(text: &str) -> String {
-    let Some(rest) = text.strip_prefix("Examples:\n") else {
-        return text.to_string();
-    };
-    rest.lines()
-        .map(|l| l.strip_prefix("  ").unwrap_or(l))
-        .collect::<Vec<_>>()
-        .join("\n")
+    let mut out: Vec<&str> = Vec::new();
+    let mut under = false;
+    for l in text.lines() {
+        if l.trim_end() == "Examples:" {
+            under = true;
+            if out.last().is_some_and(|p| !p.trim().is_empty()) {
+                out.push("");
+            }
+            continue;
+        }
+        out.push(if under {
+            l.strip_prefix("  ").unwrap_or(l)
+        } else {
+            l
+        });
+    }
+    out.join("\n")
 }
 
-/// A line of text for a roff no-fill block: backslashes doubled, and a leading `.` or `'`
+/// A line of text for a roff no-fill block: backslashes as roff's `\e`, and a leading `.` or `'`
 /// (a request to roff) escaped.
 fn roff_line(line: &str) -> String {
     let l = line.replace('\\', "\\e");

@@ -4,15 +4,15 @@
 //! with `indicatif`, one line per stage:
 //!
 //! ```text
-//! rdc: tracing                         [######>-------------] 60/165 records, 4.1/s, 26s left
-//! rspecsky: atmosphere tables (ms, AOD 0.115) [#########>----------] 2/4 scattering orders, 9.8 s each, 20s left
-//! rmtx: product                                         ⠙ 40960 rows, 9120/s
-//! rrecon: planes (RANSAC)                                                 ⠹ 3s
+//! rdc: tracing [########################>-------------------] 60/165 records, 4.1/s, 26s left
+//! rspecsky: atmosphere tables (ms, AOD 0.1) [####>----] 2/4 scattering orders, 3.3 s each, 6s left
+//! rmtx: product ⠙ 40960 rows, 9120/s
+//! rrecon: planes (RANSAC) ⠹ 3s
 //! ```
 //!
 //! that is the tool, the stage, done/total and the unit, the rate (or the time per unit when
 //! a unit takes longer than a second), and the time left (`?` until a unit is done); the
-//! stage name takes the width the rest leaves, so lines fit the terminal. A stage that took a second or
+//! bar takes the width the rest leaves. A stage that took a second or
 //! more leaves one line when it ends (`rdc: tracing: 165/165 records in 40s`); shorter ones
 //! vanish. Nothing is drawn unless standard error is a terminal
 //! ([`crate::io::show_progress`]): in pipes, logs and tests the tools are silent, and
@@ -88,16 +88,17 @@ impl Bars {
     /// unknown count a spinner and the count, uncounted stages a spinner and the time.
     fn style(&self, counted: Option<bool>, unit: &str, done: bool) -> ProgressStyle {
         let unit = unit.replace('{', "{{").replace('}', "}}");
-        // The stage name takes the width the rest leaves (cut short on a narrow terminal),
-        // so a line never wraps and the bars of successive stages line up.
+        // The bar takes the width the rest leaves, so a line fills the terminal and the
+        // stage name is never cut (a name too long for the terminal wraps, and indicatif
+        // redraws both lines).
         let template = match (counted, done) {
             (Some(true), false) => format!(
-                "{{prefix}}: {{wide_msg}} [{{bar:20}}] {{pos}}/{{len}} {unit}, {{rate}}, {{left}}"
+                "{{prefix}}: {{msg}} [{{wide_bar}}] {{pos}}/{{len}} {unit}, {{rate}}, {{left}}"
             ),
             (Some(false), false) => {
-                format!("{{prefix}}: {{wide_msg}} {{spinner}} {{pos}} {unit}, {{rate}}")
+                format!("{{prefix}}: {{msg}} {{spinner}} {{pos}} {unit}, {{rate}}")
             }
-            (None, false) => "{prefix}: {wide_msg} {spinner} {elapsed}".to_string(),
+            (None, false) => "{prefix}: {msg} {spinner} {elapsed}".to_string(),
             (Some(true), true) => {
                 format!("{{prefix}}: {{msg}}: {{pos}}/{{len}} {unit} in {{elapsed}}")
             }
@@ -225,7 +226,7 @@ mod tests {
             line.starts_with("rdc: tracing ") && line.ends_with("] 0/10 records, ?/s, ? left"),
             "{line}"
         );
-        // The stage name is padded to the terminal's width, never past it.
+        // The bar fills the terminal's width, never past it.
         let width = line.chars().count();
         assert!((110..=120).contains(&width), "{width}: {line}");
         b.advance(4);
