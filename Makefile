@@ -3,6 +3,7 @@
 #   make          the main job on the bundled example room and real London weather file
 #   make test     installs what the tests need (real Radiance via pyradiance, a single-host
 #                 Slurm) and runs all tests
+#   make install PREFIX=~/.local   the tools, their man pages and shell completions
 #
 # Makefiles are how our users chain Radiance tools; this one is also a worked example.
 
@@ -13,12 +14,12 @@ OUT      ?= out
 # Real Radiance 6 for interop tests and reference fixtures (pinned for reproducibility).
 PYRADIANCE ?= pyradiance==1.3.1
 
-BIN      := target/release
+BIN      := $(or $(CARGO_TARGET_DIR),target)/release
 ROOM     := examples/room
 EPW      := examples/weather/GBR_London.Gatwick.037760_IWEC.epw
 FIX      := radiance-fixtures
 
-.PHONY: all example radiance-example build test radiance fixtures clean
+.PHONY: all example radiance-example build test radiance fixtures clean install uninstall docs
 
 all: example
 
@@ -103,6 +104,40 @@ fixtures: radiance
 
 clean:
 	rm -rf $(OUT)
+
+# Installing: the release binaries to $(PREFIX)/bin, a man page per tool and subcommand
+# (generated from the clap definitions, EXAMPLES included: src/cli/manual.rs) to
+# $(PREFIX)/share/man/man1, and bash, zsh and fish completions where those shells look
+# under $(PREFIX)/share. DESTDIR stages a package. `make docs` only generates them, in
+# $(DOCS). BIN follows CARGO_TARGET_DIR when the build goes elsewhere.
+PREFIX   ?= /usr/local
+DESTDIR  ?=
+DOCS     ?= target/docs
+TOOLS    := rdc rspecsky rmtx rmetrics rinfo rglare ruplift rcalib rrecon rglod rmcop
+MANDIR   := $(DESTDIR)$(PREFIX)/share/man/man1
+BASHDIR  := $(DESTDIR)$(PREFIX)/share/bash-completion/completions
+ZSHDIR   := $(DESTDIR)$(PREFIX)/share/zsh/site-functions
+FISHDIR  := $(DESTDIR)$(PREFIX)/share/fish/vendor_completions.d
+
+docs:
+	@rm -rf $(DOCS)
+	$(CARGO) run --release --quiet -p xtask -- man $(DOCS)/man1
+	$(CARGO) run --release --quiet -p xtask -- completions $(DOCS)/completions
+
+install: build docs
+	install -d $(DESTDIR)$(PREFIX)/bin $(MANDIR) $(BASHDIR) $(ZSHDIR) $(FISHDIR)
+	install -m 755 $(addprefix $(BIN)/,$(TOOLS)) $(DESTDIR)$(PREFIX)/bin/
+	install -m 644 $(DOCS)/man1/*.1 $(MANDIR)/
+	install -m 644 $(addprefix $(DOCS)/completions/bash/,$(TOOLS)) $(BASHDIR)/
+	install -m 644 $(addprefix $(DOCS)/completions/zsh/_,$(TOOLS)) $(ZSHDIR)/
+	install -m 644 $(addsuffix .fish,$(addprefix $(DOCS)/completions/fish/,$(TOOLS))) $(FISHDIR)/
+	@echo "installed $(words $(TOOLS)) tools in $(DESTDIR)$(PREFIX)/bin; try: man rdc"
+
+uninstall:
+	rm -f $(addprefix $(DESTDIR)$(PREFIX)/bin/,$(TOOLS))
+	rm -f $(foreach t,$(TOOLS),$(MANDIR)/$(t).1 $(MANDIR)/$(t)-*.1)
+	rm -f $(addprefix $(BASHDIR)/,$(TOOLS)) $(addprefix $(ZSHDIR)/_,$(TOOLS))
+	rm -f $(addsuffix .fish,$(addprefix $(FISHDIR)/,$(TOOLS)))
 
 # Spectral daylight in one pass (issue 8): 18-band daylight coefficients of the example room,
 # an 18-band Perez sky matrix of the London year (CIE daylight spectra per sky condition,

@@ -23,5 +23,6 @@ fn real_main() -> Result<(), rdaylight::Error> {
     clap_args.extend(radiance_args(&rest));
     let opts = rdaylight::cli::parse_or_exit::<Options>(clap_args)?;
     let run = opts.to_run(has_view.then_some(view), &command)?;
-    rdaylight::rdc::run::main(&run)
+    let progress = rdaylight::cli::progress::Bars::stderr("rdc");
+    rdaylight::rdc::run::main(&run, &progress)
 }

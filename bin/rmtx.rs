@@ -3,7 +3,8 @@
 //! (formats, arithmetic, checks) is `rdaylight::formats::matrix::Pipeline`. This file
 //! parses, opens standard output and runs the job.
 
-use rdaylight::cli::rmtx::{Options, progress};
+use rdaylight::cli::progress::Bars;
+use rdaylight::cli::rmtx::Options;
 
 fn main() {
     rdaylight::cli::run("rmtx", real_main)
@@ -13,5 +14,5 @@ fn real_main() -> Result<(), rdaylight::Error> {
     let args: Vec<String> = std::env::args().collect();
     let job = Options::parse_from(args.clone())?.to_pipeline(args)?;
     let out = std::io::BufWriter::with_capacity(1 << 16, std::io::stdout().lock());
-    job.run(out, "<stdout>", &progress(rdaylight::io::show_progress()))
+    job.run(out, "<stdout>", &Bars::stderr("rmtx"))
 }

@@ -17,14 +17,15 @@ fn real_main() -> Result<(), Error> {
     }
     let stdout = std::io::stdout();
     let out = &mut stdout.lock();
+    let progress = rdaylight::cli::progress::Bars::stderr("rrecon");
     match &cli.command {
-        Some(Command::Simulate(a)) => run::simulate_run(&a.to_run()?, out),
+        Some(Command::Simulate(a)) => run::simulate_run(&a.to_run()?, out, &progress),
         Some(Command::Room { name, shell }) => run::room_run(name, *shell, out),
         Some(Command::Eval {
             truth,
             recon,
             samples,
         }) => run::eval_run(truth, recon, *samples, out),
-        None => run::reconstruct_run(&cli.recon.to_run()?, out, &mut std::io::stderr()),
+        None => run::reconstruct_run(&cli.recon.to_run()?, out, &mut std::io::stderr(), &progress),
     }
 }

@@ -667,3 +667,83 @@ fn every_scene_reader_accepts_no_exec() {
     );
     assert!(e.contains("refused to run inline command '!echo"), "{e}");
 }
+
+/// `rdc room.oct` answered "undefined modifier 'oconv'" (issue #21): the octree's header
+/// line was read as an object. Every tool that reads scenes names an octree, a picture, a
+/// matrix or a weather file given in a scene's place, in one line.
+#[test]
+fn octrees_and_other_files_given_as_scenes_are_named() {
+    let d = tmpdir();
+    // The first bytes of a real `oconv room.rad skydome.rad` (Radiance 6).
+    let mut oct = b"#?RADIANCE\noconv room.rad skydome.rad\nFORMAT=Radiance_octree\n\n".to_vec();
+    oct.extend_from_slice(b"\x01\x1f-20.00001\0-29.00001\0-21.50001\x0046.00002\0room.rad\0");
+    let oct_path = d.path().join("room.oct");
+    std::fs::write(&oct_path, &oct).unwrap();
+    let oct = oct_path.display().to_string();
+    let want =
+        format!("{oct} is a Radiance octree (oconv output); give the .rad scene files instead");
+    let pts = write(d.path(), "s.pts", "0.5 0.5 1 0 0 1\n");
+    let oct_bytes = std::fs::read(&oct_path).unwrap();
+    let cases: [(&str, Vec<&str>, &[u8]); 6] = [
+        (
+            "rdc",
+            vec!["-I", "-ab", "1", "-ad", "4", &oct],
+            b"0 0 1 0 0 1\n",
+        ),
+        ("rdc", vec!["-I", "-ab", "1", "-ad", "4", "-"], &oct_bytes),
+        ("rglod", vec!["objects", &oct], b""),
+        ("rrecon", vec!["simulate", &oct], b""),
+        (
+            "rcalib",
+            vec!["apply", &oct, "--sensors", &pts, "--effect", "walls:0.5"],
+            b"",
+        ),
+        ("rinfo", vec!["-d", &oct], b""),
+    ];
+    for (tool, args, stdin) in cases {
+        if tool == "rinfo" {
+            // rinfo describes any file: an octree is shown by its header; -d names it.
+            let out = run(ours(tool).arg(&oct), stdin);
+            assert_eq!(out.status.code(), Some(0), "{tool} {oct}");
+            let e = one_line_error(tool, &args, stdin);
+            assert!(
+                e.contains("is a Radiance octree (oconv output): it has no dimensions"),
+                "{e}"
+            );
+            continue;
+        }
+        let e = one_line_error(tool, &args, stdin);
+        let want = if args.last() == Some(&"-") {
+            want.replace(&oct, "<stdin>")
+        } else {
+            want.clone()
+        };
+        assert_eq!(e.trim_end(), format!("{tool}: {want}"), "{tool} {args:?}");
+    }
+    let mtx = write(
+        d.path(),
+        "dc.mtx",
+        "#?RADIANCE\nNROWS=1\nNCOLS=1\nNCOMP=3\nFORMAT=ascii\n\n1 2 3\n",
+    );
+    let e = one_line_error("rdc", &["-I", &mtx], b"0 0 1 0 0 1\n");
+    assert!(
+        e.contains("is a Radiance matrix (FORMAT=ascii), not a scene"),
+        "{e}"
+    );
+    let epw = repo().join("examples/weather/GBR_London.Gatwick.037760_IWEC.epw");
+    let e = one_line_error("rdc", &["-I", &epw.display().to_string()], b"0 0 1 0 0 1\n");
+    assert!(e.contains("is a weather file (EPW), not a scene"), "{e}");
+}
+
+/// `rglod filter -l 0 room.rad | rinfo -` (rglod's own example) said "-: 0 objects": rinfo
+/// read standard input to judge its kind, then loaded "-" again and found it empty.
+#[test]
+fn rinfo_describes_a_scene_on_standard_input() {
+    let scene = format!("{MATERIAL}m polygon p 0 0 9 0 0 0 1 0 0 0 1 0\n");
+    let out = run_ok(ours("rinfo").arg("-"), scene.as_bytes());
+    let text = String::from_utf8_lossy(&out);
+    assert!(
+        text.starts_with("-: 2 objects (1 surfaces, 1 modifiers)"),
+        "{text}"
+    );
+}

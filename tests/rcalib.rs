@@ -47,8 +47,11 @@ fn check(kind: RoomKind, w: Weather, name: &str, hidden: Vec<Effect>, factor: f6
         hidden,
         24,
         3,
-        &Settings::truth(),
-        Some(cache()),
+        &Options {
+            settings: Settings::truth(),
+            cache: Some(cache()),
+            ..Options::default()
+        },
     )
     .unwrap();
     let opts = Options {
@@ -169,8 +172,11 @@ fn seed_transmittance_scan_selects_the_dirty_glass() {
         vec![Effect::Transmittance { scale: 0.7 }],
         24,
         3,
-        &Settings::truth(),
-        Some(cache()),
+        &Options {
+            settings: Settings::truth(),
+            cache: Some(cache()),
+            ..Options::default()
+        },
     )
     .unwrap();
     let opts = Options {

@@ -67,8 +67,11 @@ fn hit_rate_table() {
                     hidden,
                     steps,
                     1,
-                    &Settings::truth(),
-                    Some(cache.clone()),
+                    &Options {
+                        settings: Settings::truth(),
+                        cache: Some(cache.clone()),
+                        ..Options::default()
+                    },
                 )
                 .unwrap();
                 let o = evaluate(&case, &opts, DEFAULT_SENSOR_SIGMA).unwrap();
@@ -174,8 +177,11 @@ fn fidelity_table() {
                     hidden.clone(),
                     30,
                     1,
-                    &Settings::truth(),
-                    Some(cache.clone()),
+                    &Options {
+                        settings: Settings::truth(),
+                        cache: Some(cache.clone()),
+                        ..Options::default()
+                    },
                 )
                 .unwrap();
                 let m = case.model(&case.model_text, &opts).unwrap();
@@ -256,8 +262,11 @@ fn explain_timing_20_sensors_50_steps() {
         }],
         50,
         1,
-        &Settings::truth(),
-        Some(cache.path().to_path_buf()),
+        &Options {
+            settings: Settings::truth(),
+            cache: Some(cache.path().to_path_buf()),
+            ..Options::default()
+        },
     )
     .unwrap();
     let opts = Options {

@@ -97,8 +97,11 @@ fn case_in(name: &str, weather: Weather, hidden: Vec<Effect>) -> SpectralCase {
         hidden,
         STEPS,
         SEED,
-        &truth_settings(),
-        Some(cache()),
+        &Options {
+            settings: truth_settings(),
+            cache: Some(cache()),
+            ..Options::default()
+        },
         &seed_channels(),
     )
     .unwrap()

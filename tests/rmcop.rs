@@ -112,7 +112,16 @@ fn reweighting_agrees_with_resimulation_within_the_noise() {
         sigmas: vec![0.2],
         ..StudyConfig::default()
     };
-    let v = validate::validate(&scene, &weather, &sensors, &cfg, 20, 6, &|_| {}).unwrap();
+    let v = validate::validate(
+        &scene,
+        &weather,
+        &sensors,
+        &cfg,
+        20,
+        6,
+        &rdaylight::progress::QUIET,
+    )
+    .unwrap();
     let c = &v.classes[0];
     assert!(c.passed, "{}", validate::table(&v));
     // The draws really moved the room: sigma 0.2 on every material is tens of percent.

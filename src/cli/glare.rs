@@ -50,24 +50,160 @@ pub struct Args {
 
 const USAGE: &str = "usage: rglare [-d|-V] [-c check.hdr] [-b thres] [-r radius] [-y|-x|-Y limit] [-s] [-t|-T x y r] [-C l+|l-|0] [-q 0|1|2] [-P 0|1] [-w a1 a2 a3 a4 a5 c1 c2 c3] [view options] [picture ...]; or rglare annual ... (rglare annual --help)";
 
-/// What `rglare --help` prints after the usage line (the table of the module documentation).
-const HELP: &str = "\
-Glare of fisheye and perspective HDR pictures (DGP, DGI, UGR, VCP, CGI, Ev), evalglare 3.x output.
-  -d               detailed output (source table + 23 values)
-  -V               vertical illuminance only
-  -c file          check picture (one input picture only)
-  -b f             threshold: > 100 absolute cd/m2, else f x task (or mean) luminance
-  -r rad           search radius (default 0.2)
-  -y / -x / -Y L   peak extraction on (default) / off / on with limit L
-  -s               smoothing
-  -t x y r         task area (pixel x, y from the bottom; opening r rad); -T the same
-  -C l+|l-|0       low-light correction on / off (default) / off
-  -q 0|1|2         background luminance
-  -P 0|1           position index model (Guth/Iwata, Kim)
-  -w a1..a5 c1..c3 DGP coefficients
-  -vf file, -vt? -vh -vv -vd -vu -vp ...   view, replacing the header's
-Pictures are files or standard input (several pictures may follow each other in a stream).
-Imageless annual glare: rglare annual --help";
+pub const EXAMPLES: &str = "\
+Examples:
+  Glare of a fisheye picture rendered with rdc (evalglare's output line):
+    rdc -vta -vp 3 2 1.2 -vd 0 1 0 -vh 180 -vv 180 -x 512 -y 512 room.rad sky.rad > eye.hdr
+    rglare eye.hdr
+  Detailed output (source table and 23 values) and a check picture of the sources:
+    rglare -d -c check.hdr eye.hdr
+  Many pictures in one stream, evaluated in parallel, one line each in input order:
+    cat eye1.hdr eye2.hdr eye3.hdr | rglare
+  Vertical illuminance only, task area at pixel 256 256 with a 0.5 rad opening:
+    rglare -V eye.hdr; rglare -t 256 256 0.5 eye.hdr
+  Imageless annual glare of one view over a weather year:
+    rglare annual -w site.epw -vf eye.vf -ab 3 -ad 512 -lw 1e-3 room.rad > dgp.txt";
+
+/// `rglare`'s options as clap describes them: what `--help`, the man page and the shell
+/// completions show. The parser is [`Args::parse`] (evalglare's letters and rpict's view
+/// options, which clap cannot take); a test checks that it knows every letter named here.
+pub fn command() -> clap::Command {
+    use clap::{Arg, ArgAction, Command};
+    let flag = |id: &'static str, short: char, help: &'static str| {
+        Arg::new(id)
+            .short(short)
+            .action(ArgAction::SetTrue)
+            .help(help)
+    };
+    let value = |id: &'static str, short: char, name: &'static str, help: &'static str| {
+        Arg::new(id).short(short).value_name(name).help(help)
+    };
+    Command::new("rglare")
+        .version(env!("CARGO_PKG_VERSION"))
+        .about(
+            "Glare of fisheye and perspective HDR pictures (DGP, DGI, UGR, VCP, CGI, Ev), \
+             evalglare 3.x output",
+        )
+        .long_about(
+            "Glare of fisheye and perspective HDR pictures (DGP, DGI, UGR, VCP, CGI, Ev), \
+             evalglare 3.x output (the evalglare counterpart).\n\n\
+             Pictures are files or standard input; a file or a pipe may hold several \
+             pictures one after another. Several pictures give one result per picture, in \
+             input order, evaluated in parallel. The detection method and threshold go to \
+             standard error, one line per picture, so standard output stays what evalglare \
+             prints. View options (rpict's: -vf file, -vt? -vp x y z -vd x y z -vu x y z \
+             -vh deg -vv deg) replace the picture header's view.\n\n\
+             Imageless annual glare: rglare annual (rglare annual --help).",
+        )
+        .override_usage(
+            "rglare [-d|-V] [-c check.hdr] [-b thres] [-r radius] [-y|-x|-Y limit] [-s] \
+             [-t|-T x y r] [-C l+|l-|0] [-q 0|1|2] [-P 0|1] [-w a1 a2 a3 a4 a5 c1 c2 c3] \
+             [view options] [picture ...]\n       rglare annual ...",
+        )
+        .disable_version_flag(true)
+        .args_conflicts_with_subcommands(true)
+        .arg(
+            Arg::new("version")
+                .long("version")
+                .action(ArgAction::Version)
+                .help("Print version"),
+        )
+        .arg(flag(
+            "detailed",
+            'd',
+            "Detailed output (source table + 23 values)",
+        ))
+        .arg(flag("ev", 'V', "Vertical illuminance only"))
+        .arg(
+            value(
+                "check",
+                'c',
+                "FILE",
+                "Check picture (one input picture only)",
+            )
+            .value_hint(clap::ValueHint::FilePath),
+        )
+        .arg(value(
+            "threshold",
+            'b',
+            "F",
+            "Threshold: > 100 absolute cd/m2, else F x task (or mean) luminance",
+        ))
+        .arg(value("radius", 'r', "RAD", "Search radius (default 0.2)"))
+        .arg(flag("peaks", 'y', "Peak extraction on (default)"))
+        .arg(flag("no-peaks", 'x', "Peak extraction off"))
+        .arg(value(
+            "peak-limit",
+            'Y',
+            "L",
+            "Peak extraction on, with limit L",
+        ))
+        .arg(flag("smooth", 's', "Smoothing"))
+        .arg(
+            value(
+                "task",
+                't',
+                "X Y R",
+                "Task area: pixel X, Y from the bottom (as evalglare), opening R rad",
+            )
+            .num_args(3)
+            .value_names(["X", "Y", "R"]),
+        )
+        .arg(
+            value("task-T", 'T', "X Y R", "Task area, as -t")
+                .num_args(3)
+                .value_names(["X", "Y", "R"]),
+        )
+        .arg(
+            value(
+                "low-light",
+                'C',
+                "l+|l-|0",
+                "Low-light correction on (l+) / off (l-, default) / off (0)",
+            )
+            .value_parser(["l+", "l-", "0"])
+            .hide_possible_values(true),
+        )
+        .arg(
+            value(
+                "background",
+                'q',
+                "0|1|2",
+                "Background luminance: 0 cosine-weighted mean, 1 mean without sources, 2 Ev",
+            )
+            .value_parser(["0", "1", "2"])
+            .hide_possible_values(true),
+        )
+        .arg(
+            value(
+                "position",
+                'P',
+                "0|1",
+                "Position index model: 0 Guth/Iwata, 1 Kim",
+            )
+            .value_parser(["0", "1"])
+            .hide_possible_values(true),
+        )
+        .arg(
+            value(
+                "dgp",
+                'w',
+                "A1..C3",
+                "DGP coefficients a1 a2 a3 a4 a5 c1 c2 c3",
+            )
+            .num_args(8)
+            .value_names(["A1", "A2", "A3", "A4", "A5", "C1", "C2", "C3"]),
+        )
+        .arg(
+            Arg::new("pictures")
+                .value_name("PICTURE")
+                .num_args(0..)
+                .value_hint(clap::ValueHint::FilePath)
+                .help("HDR pictures (standard input when none is named)"),
+        )
+        .after_help(EXAMPLES)
+        .subcommand(super::glare_annual::command())
+}
 
 fn num(args: &[String], i: usize, opt: &str) -> Result<f64> {
     let v = args
@@ -290,8 +426,11 @@ pub fn run(raw: &[String]) -> Result<()> {
     }
     // evalglare has no help option; ours prints the usage and the option table, exit 0,
     // as every other tool's --help does.
-    if raw.iter().any(|a| a == "--help" || a == "-help") {
-        println!("{USAGE}\n\n{HELP}");
+    if raw
+        .iter()
+        .any(|a| a == "--help" || a == "-help" || a == "-h")
+    {
+        println!("{}", command().render_long_help());
         return Ok(());
     }
     if raw.iter().any(|a| a == "--version") {

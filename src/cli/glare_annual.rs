@@ -40,6 +40,201 @@ use std::io::Write;
 
 const USAGE: &str = "usage: rglare annual -w weather.epw|.wea [view options] [--views FILE [--shard K/N [--manifest FILE]]] [--rays N] [-b thres] [-l limit] [-C l+] [-P 0|1] [--ev rays|sensor] [--eye-ad N] [--occupied A-B] [--weekdays [--jan1 DAY]] [--schedule FILE] [-o out.txt] [rdc options] scene.rad ...; or rglare annual --cat shard.txt ... [--manifests m.json ...] [-o out.txt]";
 
+pub const EXAMPLES: &str = "\
+Examples:
+  Annual DGP of one seated view over the London year (the main job's weather file):
+    rglare annual -w site.epw -vta -vp 3 1.5 1.2 -vd 0 -1 0 -vu 0 0 1 -vh 180 -vv 180 \\
+        -ab 3 -ad 512 -lw 1e-3 -o dgp.txt room.rad
+  The same for a view file and office hours on weekdays only:
+    rglare annual -w site.epw -vf eye.vf --occupied 8-18 --weekdays room.rad > dgp.txt
+  Many views as 3 shards (e.g. Slurm array tasks), merged into the unsharded output:
+    for k in 0 1 2; do
+      rglare annual -w site.epw --views views.txt --shard $k/3 --manifest m.$k.json \\
+          -o g.$k.txt room.rad
+    done
+    rglare annual --cat g.0.txt g.1.txt g.2.txt --manifests m.0.json m.1.json m.2.json \\
+        -o glare.txt";
+
+/// `rglare annual`'s options as clap describes them (`--help`, the man page, completions);
+/// the parser is [`AnnualArgs::parse`], which passes every option not named here to `rdc`
+/// (a test checks that it takes each one named here).
+pub fn command() -> clap::Command {
+    use clap::{Arg, ArgAction, Command, ValueHint};
+    let value = |id: &'static str, name: &'static str, help: &'static str| {
+        Arg::new(id).long(id).value_name(name).help(help)
+    };
+    Command::new("annual")
+        .version(env!("CARGO_PKG_VERSION"))
+        .about("Imageless annual glare (DGP per weather step) from daylight coefficients")
+        .long_about(
+            "Imageless DGP per weather step (dcglare's counterpart) from daylight coefficients \
+             of a grid of view rays (--rays N per side) and the exact sun disc. The rdc \
+             options (-ab -ad -lw -m MF -s seed -n threads) set the sampling; every option not \
+             listed here goes to rdc. View options are rpict's (-vf file, -vta -vp x y z -vd \
+             dx dy dz -vu ux uy uz -vh 180 -vv 180).\n\n\
+             Output (-o, default standard output): '#' lines (method, threshold, view, \
+             occupancy, glare autonomy, shares above 0.35/0.40/0.45, EN 17037 class), then \
+             per step: month day hour DGP Ev Ev_sun nsources sun_in_view DGP_dcglare.\n\n\
+             Many views: --views FILE, one line of view options per view on top of the \
+             command line's (e.g. -vp 3 1.5 1.2 -vd 0 -1 0); one section per view. --shard \
+             K/N computes the K-th (0-based) of N blocks of views as a checked text shard, \
+             --manifest FILE describes it; rglare annual --cat of all N shards (with \
+             --manifests) equals the unsharded output byte for byte.",
+        )
+        .override_usage(
+            "rglare annual -w weather.epw|.wea [view options] [--views FILE [--shard K/N \
+             [--manifest FILE]]] [options] [rdc options] scene.rad ...\n       \
+             rglare annual --cat shard.txt ... [--manifests m.json ...] [-o out.txt]",
+        )
+        .disable_help_flag(true)
+        .disable_version_flag(true)
+        .arg(
+            Arg::new("help")
+                .long("help")
+                .action(ArgAction::Help)
+                .help("Print help"),
+        )
+        .arg(
+            Arg::new("version")
+                .long("version")
+                .action(ArgAction::Version)
+                .help("Print version"),
+        )
+        .arg(
+            value("weather", "FILE", "Weather file, EPW or .wea (required)")
+                .short('w')
+                .value_hint(ValueHint::FilePath),
+        )
+        .arg(
+            value(
+                "views",
+                "FILE",
+                "One view per line (rpict view options or a VIEW= line), on top of the \
+                 command line's view options; one output section per view",
+            )
+            .value_hint(ValueHint::FilePath),
+        )
+        .arg(value(
+            "shard",
+            "K/N",
+            "Only the K-th (0-based) of N blocks of views, framed as a checked text shard",
+        ))
+        .arg(
+            value("manifest", "FILE", "With --shard: the shard's manifest (JSON)")
+                .value_hint(ValueHint::FilePath),
+        )
+        .arg(value(
+            "rays",
+            "N",
+            "View rays per side of the grid (default 64, at most 1024)",
+        ))
+        .arg(value(
+            "eye-ad",
+            "N",
+            "Samples of the eye sensor's coefficients (default 16384)",
+        ))
+        .arg(
+            Arg::new("threshold")
+                .short('b')
+                .value_name("F")
+                .help("Glare source threshold: > 100 absolute cd/m2, else F x Ev/pi (default 2000)"),
+        )
+        .arg(
+            Arg::new("limit")
+                .short('l')
+                .value_name("DGP")
+                .help("DGP limit of glare autonomy (default 0.4)"),
+        )
+        .arg(
+            Arg::new("low-light")
+                .short('C')
+                .value_name("l+|l-|0")
+                .value_parser(["l+", "l-", "0"])
+                .hide_possible_values(true)
+                .help("evalglare's low-light correction on (l+) or off (l-, 0; default)"),
+        )
+        .arg(
+            Arg::new("position")
+                .short('P')
+                .value_name("0|1")
+                .value_parser(["0", "1"])
+                .hide_possible_values(true)
+                .help("Position index model: 0 Guth/Iwata (default), 1 Kim"),
+        )
+        .arg(
+            value(
+                "ev",
+                "rays|sensor",
+                "Vertical illuminance from the view rays (default) or the eye sensor",
+            )
+            .value_parser(["rays", "sensor"])
+            .hide_possible_values(true),
+        )
+        .arg(value(
+            "sun-angle",
+            "DEG",
+            "Apex angle of the sun disc in degrees (default 0.533)",
+        ))
+        .arg(value(
+            "occupied",
+            "A-B",
+            "Occupied hours, A included and B not (default 8-18)",
+        ))
+        .arg(
+            Arg::new("weekdays")
+                .long("weekdays")
+                .action(ArgAction::SetTrue)
+                .help("Occupied on weekdays only"),
+        )
+        .arg(value(
+            "jan1",
+            "DAY",
+            "With --weekdays: the weekday of 1 January (e.g. Monday; default from an EPW's DATA PERIODS)",
+        ))
+        .arg(
+            value("schedule", "FILE", "Occupancy flags, one line per weather step")
+                .value_hint(ValueHint::FilePath),
+        )
+        .arg(
+            Arg::new("output")
+                .short('o')
+                .value_name("FILE")
+                .value_hint(ValueHint::FilePath)
+                .help("Output file, written atomically (default standard output)"),
+        )
+        .arg(
+            Arg::new("cat")
+                .long("cat")
+                .action(ArgAction::SetTrue)
+                .help("Merge the text shards of --shard runs (all N, in order) into the unsharded output"),
+        )
+        .arg(
+            Arg::new("manifests")
+                .long("manifests")
+                .value_name("JSON")
+                .num_args(1..)
+                .value_hint(ValueHint::FilePath)
+                .help("With --cat: the shards' manifests, in the same order"),
+        )
+        .arg(
+            Arg::new("no-exec")
+                .long("no-exec")
+                .action(ArgAction::SetTrue)
+                .help(
+                    "Refuse inline `!commands` in scene files (error instead). By default they \
+                     run, as in Radiance; also RDAYLIGHT_NO_EXEC=1",
+                ),
+        )
+        .arg(
+            Arg::new("scene")
+                .value_name("SCENE")
+                .num_args(0..)
+                .value_hint(ValueHint::FilePath)
+                .help("Scene files (.rad), as for rdc"),
+        )
+        .after_help(EXAMPLES)
+}
+
 /// Parsed `rglare annual` command line.
 #[derive(Debug, Clone)]
 pub struct AnnualArgs {
@@ -475,22 +670,7 @@ pub fn run(raw: &[String]) -> Result<()> {
         return Ok(());
     }
     if raw.iter().any(|a| a == "--help" || a == "-help") {
-        println!(
-            "{USAGE}\n\nImageless DGP per weather step (dcglare's counterpart) from daylight coefficients \
-             of a grid of view rays (--rays N per side) and the exact sun disc. The rdc options \
-             (-ab -ad -lw -m MF -s seed -n threads) set the sampling. Output: '#' lines (method, \
-             threshold, view, occupancy, glare autonomy, shares above 0.35/0.40/0.45, EN 17037 \
-             class), then per step: month day hour DGP Ev Ev_sun nsources sun_in_view DGP_dcglare.\n\n\
-             Many views: --views FILE, one line of view options per view on top of the command \
-             line's (e.g. -vp 3 1.5 1.2 -vd 0 -1 0); one section per view. --shard K/N computes \
-             the K-th (0-based) of N blocks of views as a checked text shard, --manifest FILE \
-             describes it; rglare annual --cat of all N shards (with --manifests) equals the \
-             unsharded output byte for byte:\n  \
-             for k in 0 1 2; do rglare annual --views v.txt --shard $k/3 -o g.$k.txt [options] scene.rad; done\n  \
-             rglare annual --cat g.0.txt g.1.txt g.2.txt -o glare.txt\n\n\
-             --no-exec  refuse inline `!commands` in scene files (error instead). By default they \
-             run, as in Radiance; also RDAYLIGHT_NO_EXEC=1."
-        );
+        println!("{}", command().name("rglare annual").render_long_help());
         return Ok(());
     }
     if raw.first().map(String::as_str) == Some("--cat") {
@@ -501,12 +681,7 @@ pub fn run(raw: &[String]) -> Result<()> {
     let sched = args.schedule.build(weather.steps.len(), &args.weather)?;
     let items = args.view_items()?;
     let shown = args.shard.map_or(0..items.len(), |s| s.rows(items.len()));
-    let show = crate::io::show_progress();
-    let progress = |what: &str| {
-        if show {
-            eprintln!("rglare annual: {what}");
-        }
-    };
+    let progress = super::progress::Bars::stderr("rglare annual");
     let base = args.rdc.to_config()?;
     let mut load = crate::scene::LoadOptions::from_env();
     load.allow_exec &= !args.rdc.no_exec;
@@ -516,8 +691,7 @@ pub fn run(raw: &[String]) -> Result<()> {
         let item = &items[i];
         let rays = ViewRays::new(&item.view, args.grid)?;
         let c = annual::coefficients(&base, &scene, &rays, &args.weather, args.eye_ad, &progress)?;
-        progress("time steps");
-        let results = annual::evaluate(&c, &rays, &weather, &args.opts)?;
+        let results = annual::evaluate(&c, &rays, &weather, &args.opts, &progress)?;
         let summary = annual::summary(&results, &sched.occupied, args.opts.limit);
         let mut text = match (&args.views, item.line) {
             (Some(f), Some(l)) => {

@@ -7,6 +7,8 @@
 
 pub mod glare;
 pub mod glare_annual;
+pub mod manual;
+pub mod progress;
 pub mod rcalib;
 pub mod rdc;
 pub mod rglod;
@@ -20,6 +22,26 @@ pub mod ruplift;
 
 use crate::error::Error;
 use std::io::Write;
+
+/// Every tool's command line as clap describes it, subcommands included, with those parsed
+/// apart attached (`rglare annual`, `rspecsky genssky`): what `--help`, the man pages and
+/// the shell completions are made of. One entry per binary, in the README's order.
+pub fn commands() -> Vec<clap::Command> {
+    use clap::CommandFactory;
+    vec![
+        rdc::Options::command(),
+        rspecsky::Options::command().subcommand(rspecsky::GensskyArgs::command().name("genssky")),
+        rmtx::Options::command(),
+        rmetrics::Options::command(),
+        rinfo::Options::command(),
+        glare::command(),
+        ruplift::Cli::command(),
+        rcalib::Cli::command(),
+        rrecon::Cli::command(),
+        rglod::Options::command(),
+        rmcop::Options::command(),
+    ]
+}
 
 pub fn run(prog: &str, f: impl FnOnce() -> Result<(), Error>) -> ! {
     let code = match f() {
@@ -117,12 +139,41 @@ pub fn usage_error(e: clap::Error) -> Error {
         e.exit()
     }
     let text = e.to_string();
-    let first = text.lines().next().unwrap_or("bad command line");
-    Error::Usage(first.trim_start_matches("error: ").to_string())
+    let mut lines = text.lines().map(str::trim).filter(|l| !l.is_empty());
+    let mut first = lines
+        .next()
+        .unwrap_or("bad command line")
+        .trim_start_matches("error: ")
+        .to_string();
+    // "the following required arguments were not provided:" names them on the next line.
+    if first.ends_with(':') {
+        if let Some(next) = lines.next().filter(|l| !l.starts_with("Usage:")) {
+            first = format!("{first} {next}");
+        }
+    }
+    Error::Usage(first)
 }
 
 #[cfg(test)]
 mod tests {
+    use clap::Parser;
+
+    #[derive(Parser, Debug)]
+    struct Needs {
+        #[arg(long, required = true)]
+        effect: String,
+    }
+
+    /// clap names the missing arguments on its second line: the one line keeps them.
+    #[test]
+    fn missing_arguments_are_named() {
+        let e = super::parse_or_exit::<Needs>(vec!["t".into()]).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "the following required arguments were not provided: --effect <EFFECT>"
+        );
+    }
+
     #[test]
     fn long_spellings_stop_at_the_operands() {
         let got = super::long_spellings(["x", "-ab", "5", "--ab", "-abc", "--", "-ab"], &["ab"]);

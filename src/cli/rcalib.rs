@@ -43,6 +43,7 @@ Coefficients are cached in --cache (default .rcalib-cache): re-runs trace nothin
 #[command(
     name = "rcalib",
     version,
+    propagate_version = true,
     about = "Compare a daylight model with measurements, explain the error by missing \
              physical effects, apply them and watch the error fall",
     after_help = EXAMPLES
@@ -328,6 +329,7 @@ impl SimArgs {
             } else {
                 StepSkyModel::Gendaylit
             },
+            progress: super::progress::Bars::reporter("rcalib"),
         })
     }
 }

@@ -27,6 +27,7 @@ GLoD1/2/3 add objects whose smallest oriented bounding box has a surface area of
 #[command(
     name = "rglod",
     version,
+    propagate_version = true,
     about = "Geometrical Levels of Detail: group a scene into objects, size them by their \
              oriented bounding box, and write the scene at GLoD0-4",
     after_help = EXAMPLES
@@ -304,12 +305,7 @@ pub fn run(opts: &Options, out: &mut dyn Write) -> Result<()> {
             let weather = crate::formats::weather::Weather::read_path(weather)?;
             let sensors = crate::formats::sensors::read_sensor_path(pts)?;
             let (scene, a) = common.analyse()?;
-            let show = crate::io::show_progress();
-            let progress = |what: &str| {
-                if show {
-                    eprintln!("rglod study: tracing {what}");
-                }
-            };
+            let progress = super::progress::Bars::stderr("rglod study");
             let results = glod::study::study(&scene, &a, &weather, &sensors, &cfg, &progress)?;
             if let Some(dir) = maps {
                 write_maps(dir, &results, &sensors)?;

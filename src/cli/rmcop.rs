@@ -33,6 +33,7 @@ What a Radiance user does instead: a loop that edits the materials (500 draws x 
 #[command(
     name = "rmcop",
     version,
+    propagate_version = true,
     about = "Material Classes of Precision: how material measurement error moves annual \
              daylight metrics, by re-weighting the paths of one trace per GLoD",
     after_help = EXAMPLES,
@@ -333,9 +334,10 @@ fn command_line() -> Vec<String> {
 
 /// Run `rmcop` with parsed options, writing the cell table to `out`.
 pub fn run(opts: &Options, out: &mut dyn Write) -> Result<()> {
-    let show = crate::io::show_progress();
-    let progress = |what: &str| {
-        if show {
+    let progress = super::progress::Bars::stderr("rmcop");
+    // Between stages: what the bars do not say.
+    let note = |what: &str| {
+        if crate::io::show_progress() {
             eprintln!("rmcop: {what}");
         }
     };
@@ -361,20 +363,14 @@ pub fn run(opts: &Options, out: &mut dyn Write) -> Result<()> {
             let (scene, analysis) = inputs.glod().analyse()?;
             let prep = study::prepare(&scene, &analysis, &weather, &sensors, &cfg, &progress)?;
             for p in &prep.levels {
-                progress(&format!(
+                note(&format!(
                     "GLoD{}: traced in {:.1} s, {} materials vary",
                     p.level,
                     p.model.trace_seconds,
                     p.props.len()
                 ));
             }
-            let t0 = std::time::Instant::now();
-            let recs = study::draws(&prep, &cfg);
-            progress(&format!(
-                "{} draws in {:.2} s",
-                recs.len(),
-                t0.elapsed().as_secs_f64()
-            ));
+            let recs = study::draws(&prep, &cfg, &progress);
             if let Some(path) = records {
                 let rows = shard.map_or(0..cfg.draws, |s| s.rows(cfg.draws));
                 let file = ShardFile {

@@ -32,6 +32,7 @@ direct sun > 1000 lx for > 250 h.";
 #[command(
     name = "rmetrics",
     version,
+    propagate_version = true,
     about = "Annual daylight metrics (TAI, UDI, DA, sDA, ASE) from an illuminance matrix \
              (sensors x time steps), maps and model-variant errors",
     after_help = EXAMPLE,

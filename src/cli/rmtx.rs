@@ -229,14 +229,3 @@ fn format_opt(v: &Option<String>, opt: &str) -> Result<Option<DataFormat>> {
         },
     }
 }
-
-/// Progress on standard error (`rmtx: N rows`), when it is a terminal.
-pub fn progress(show: bool) -> impl Fn(usize, bool) {
-    move |done, finished| {
-        if show && finished {
-            eprintln!("\rrmtx: {done} rows");
-        } else if show {
-            eprint!("\rrmtx: {done} rows");
-        }
-    }
-}

@@ -25,7 +25,7 @@ Examples:
 /// (PolyFit-style selection, solved exactly), windows from holes in the wall points, and a
 /// `.rad` model with named surfaces and default materials (opaque 0.5, glazing 0.75).
 #[derive(Parser, Debug)]
-#[command(name = "rrecon", version, after_help = EXAMPLES, args_conflicts_with_subcommands = true)]
+#[command(name = "rrecon", version, propagate_version = true, after_help = EXAMPLES, args_conflicts_with_subcommands = true)]
 pub struct Cli {
     #[command(subcommand)]
     pub command: Option<Command>,

@@ -506,16 +506,19 @@ pub fn genssky_config(args: Vec<String>) -> Result<GensskyConfig> {
     })
 }
 
-/// Progress (on a terminal) and warnings on standard error, as `rspecsky: ...` lines.
+/// Progress (on a terminal, [`super::progress::Bars`]) and warnings on standard error, as
+/// `rspecsky: ...` lines.
 pub struct Stderr {
     /// Show progress and information ([`crate::io::show_progress`]).
     pub show: bool,
+    bars: super::progress::Bars,
 }
 
 impl Stderr {
     pub fn new() -> Self {
         Stderr {
             show: crate::io::show_progress(),
+            bars: super::progress::Bars::stderr("rspecsky"),
         }
     }
 }
@@ -527,13 +530,8 @@ impl Default for Stderr {
 }
 
 impl Messages for Stderr {
-    fn progress(&self, done: usize, total: usize) {
-        if self.show {
-            eprint!("\rrspecsky: {done}/{total} time steps");
-            if done == total {
-                eprintln!();
-            }
-        }
+    fn progress(&self) -> &dyn crate::progress::Progress {
+        &self.bars
     }
 
     fn info(&self, msg: &str) {

@@ -43,7 +43,7 @@ Examples:
 /// 0..1 matches them) get the closest spectrum; the remaining Delta E*ab is printed on
 /// stderr.
 #[derive(Parser, Debug)]
-#[command(name = "ruplift", version, after_help = EXAMPLES)]
+#[command(name = "ruplift", version, propagate_version = true, after_help = EXAMPLES)]
 pub struct Cli {
     #[command(subcommand)]
     pub command: Command,

@@ -8,6 +8,7 @@
 //! - [`colour`]: colour science (CIE tables, observers, band integrals, melanopic weights);
 //! - [`hash`]: the FNV-1a fingerprint of caches and checksums;
 //! - [`io`]: atomic output (nothing half-written) and stream checks;
+//! - [`progress`]: how long work reports how far it got (the tools draw it);
 //! - [`stats`]: order statistics (median, percentiles);
 //! - [`vec3`]: 3-vectors ([`vec3::Vec3`] and helpers on `[f64; 3]`).
 //!
@@ -22,6 +23,7 @@ pub mod colour;
 pub mod error;
 pub mod hash;
 pub mod io;
+pub mod progress;
 pub mod radiometry;
 pub mod stats;
 pub mod vec3;

@@ -2,7 +2,8 @@
 //!
 //! A case is a model (what the user has), a truth (the model plus a hidden effect, written
 //! by [`super::apply`] as real geometry or materials, or a sensor fault in the readings),
-//! and readings simulated from the truth at better settings ([`Settings::truth`]) with
+//! and readings simulated from the truth at better settings
+//! ([`Settings::truth`](super::simulate::Settings::truth)) with
 //! realistic sensor noise: a fixed calibration factor per sensor, `exp(N(0, 0.03))`, and a
 //! per-reading factor `exp(N(0, 0.02))` (seeded, so a case is reproducible).
 //!
@@ -21,7 +22,6 @@ use super::measurements::{Bound, Reading};
 use super::model::Model;
 use super::room::{Room, SurfaceClass};
 use super::session::{self, Options};
-use super::simulate::Settings;
 use crate::error::Result;
 use crate::formats::sensors::{Sensor, SensorRay};
 use crate::formats::weather::{Site, WeaUnits, Weather, WeatherStep};
@@ -337,8 +337,8 @@ pub fn room_of(scene: &Scene, sensors: &[Sensor]) -> Room {
 }
 
 /// Build a case: `hidden` effects applied to the room's model (sensor faults go into the
-/// readings), readings at `nsteps` steps of `weather` simulated with `truth` settings.
-#[allow(clippy::too_many_arguments)]
+/// readings), readings at `nsteps` steps of `weather` simulated with `truth`'s settings
+/// (and its cache and progress).
 pub fn generate(
     name: &str,
     kind: RoomKind,
@@ -346,8 +346,7 @@ pub fn generate(
     hidden: Vec<Effect>,
     nsteps: usize,
     seed: u64,
-    truth: &Settings,
-    cache: Option<std::path::PathBuf>,
+    truth: &Options,
 ) -> Result<Case> {
     let (model_text, sensors) = room(kind);
     generate_with_sensors(
@@ -359,7 +358,6 @@ pub fn generate(
         nsteps,
         seed,
         truth,
-        cache,
     )
 }
 
@@ -389,8 +387,7 @@ impl Truth {
         hidden: &[Effect],
         nsteps: usize,
         seed: u64,
-        truth: &Settings,
-        cache: Option<std::path::PathBuf>,
+        truth: &Options,
     ) -> Result<Truth> {
         let model = scene_of(model_text)?;
         let room = room_of(&model, sensors);
@@ -406,9 +403,9 @@ impl Truth {
             truth_text,
             steps: pick_steps(weather, nsteps, seed),
             opts: Options {
-                settings: truth.clone(),
-                cache,
-                ..Options::default()
+                reflectance: false,
+                classes: Vec::new(),
+                ..truth.clone()
             },
         })
     }
@@ -468,12 +465,9 @@ pub fn generate_with_sensors(
     hidden: Vec<Effect>,
     nsteps: usize,
     seed: u64,
-    truth: &Settings,
-    cache: Option<std::path::PathBuf>,
+    truth: &Options,
 ) -> Result<Case> {
-    let t = Truth::new(
-        model_text, &sensors, &weather, &hidden, nsteps, seed, truth, cache,
-    )?;
+    let t = Truth::new(model_text, &sensors, &weather, &hidden, nsteps, seed, truth)?;
     let dummy = t.bound(sensors.len(), 1.0);
     let tm = session::build(&t.truth_scene, sensors.clone(), &weather, &dummy, &t.opts)?;
     let mut values = tm.predict(&[]);

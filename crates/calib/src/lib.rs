@@ -26,7 +26,7 @@
 //! | [`session`] | files -> model, shared by every command |
 //! | [`spectral`] | spectral readings (18-channel sensors): the seed's chapter-6 workflow, Table 6.4, the glazing tint (issue 8) |
 
-use rdaylight_base::{colour, error, radiometry};
+use rdaylight_base::{colour, error, progress, radiometry};
 use rdaylight_formats as formats;
 use rdaylight_formats::scene;
 use rdaylight_metrics as metrics;

@@ -479,8 +479,7 @@ pub fn synth_run(s: &Synth, out: &mut dyn Write) -> Result<()> {
         hidden,
         s.steps,
         s.noise_seed,
-        &opts.settings,
-        opts.cache.clone(),
+        &opts,
     )?;
     let mut idx: Vec<usize> = case.readings.iter().map(|b| b.step).collect();
     idx.sort_unstable();
@@ -533,8 +532,7 @@ fn synth_spectral(
         hidden,
         s.steps,
         s.noise_seed,
-        &opts.settings,
-        opts.cache.clone(),
+        opts,
         &crate::spectral::seed_channels(),
     )?;
     let (idx, _) = crate::spectral::measured_steps(&c.bound);

@@ -15,6 +15,7 @@ use super::simulate::{
 use crate::error::{Error, Result};
 use crate::formats::sensors::Sensor;
 use crate::formats::weather::Weather;
+use crate::progress::Reporter;
 use crate::scene::{self, LoadOptions, Scene};
 use std::path::PathBuf;
 
@@ -32,6 +33,8 @@ pub struct Options {
     /// of it per step; `Gendaymtx` is the annual pipelines' sky (gendaymtx), 0.5-2.2 % high
     /// against it (`radiance-fixtures/calib/README.md`).
     pub sky: StepSkyModel,
+    /// Where traced runs report (quiet by default; the tool draws bars).
+    pub progress: Reporter,
 }
 
 impl Default for Options {
@@ -42,6 +45,7 @@ impl Default for Options {
             classes: Vec::new(),
             reflectance: false,
             sky: StepSkyModel::Gendaylit,
+            progress: Reporter::quiet(),
         }
     }
 }
@@ -74,7 +78,8 @@ pub fn build(
         &sensors,
         subset_wea(weather, &idx),
         &skies,
-    )?;
+    )?
+    .with_progress(opts.progress.clone());
     if opts.sky == StepSkyModel::Gendaylit {
         let seen = simulator.seen_sky(scene)?;
         skies = step_skies_seen(weather, &idx, opts.settings.mf, &seen);

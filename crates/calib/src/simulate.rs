@@ -41,6 +41,7 @@ use super::room::{Room, SurfaceClass};
 use crate::error::{Error, Result};
 use crate::formats::sensors::Sensor;
 use crate::formats::weather::Weather;
+use crate::progress::{Reporter, Stage};
 use crate::radiometry::Channels;
 use crate::radiometry::{RGB_PHOTOPIC_ROUNDED, WHITE_EFFICACY};
 use crate::rdc::config::SUN_ANGLE_DEG;
@@ -501,6 +502,8 @@ pub struct Simulator {
     suns_wea: String,
     suns: Weather,
     nsteps: usize,
+    /// Where each traced run (a cache miss) reports, as a stage of its own.
+    progress: Reporter,
 }
 
 impl Simulator {
@@ -525,7 +528,14 @@ impl Simulator {
             suns_wea,
             suns,
             nsteps,
+            progress: Reporter::quiet(),
         })
+    }
+
+    /// Report every traced run to `progress` (a stage per run, a unit per sensor).
+    pub fn with_progress(mut self, progress: Reporter) -> Simulator {
+        self.progress = progress;
+        self
     }
 
     /// One cached traced run of `scene_text`: the flat values of every sensor row.
@@ -605,7 +615,22 @@ impl Simulator {
             },
         };
         let config = settings.config(target, kind.channels, reweight);
-        crate::rdc::Tracer::new(&config, &scene)?.compute(&self.rays)
+        let mut what = match kind.what {
+            What::Sky { direct_only: false } => "sky coefficients".to_string(),
+            What::Sky { direct_only: true } => "direct sky coefficients".to_string(),
+            What::Seen => "escape directions".to_string(),
+            What::Suns { bounces: false } => "sun coefficients".to_string(),
+            What::Suns { bounces: true } => "sun coefficients with inter-reflection".to_string(),
+        };
+        if kind.channels.ncomp != 3 {
+            what += &format!(" ({} bands)", kind.channels.ncomp);
+        }
+        if config.reweight.is_some() {
+            what += " with re-weighting records";
+        }
+        let p = self.progress.get();
+        let stage = Stage::new(p, &what, Some(self.rays.len() as u64), "sensors");
+        crate::rdc::Tracer::new(&config, &scene)?.compute_reporting(&self.rays, stage.progress())
     }
 
     /// All three coefficient sets of a scene.

@@ -128,7 +128,8 @@ pub fn simulate_scene(
         sensors,
         subset_wea(weather, &idx),
         &skies,
-    )?;
+    )?
+    .with_progress(opts.progress.clone());
     let sim = simulate(&simulator, scene, &skies, sensors.len(), ch)?;
     Ok((sim, skies))
 }

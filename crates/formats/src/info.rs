@@ -479,6 +479,15 @@ pub fn describe(path: &str, detail: Detail, load: &crate::scene::LoadOptions) ->
                  matrix or picture (written with -h?) cannot be described",
             );
         }
+        Kind::Radiance
+            if !matches!(detail, Detail::Header)
+                && crate::scene::is_octree(r.fill_buf().at_path(path)?) =>
+        {
+            return Err(Error::Usage(format!(
+                "{path} is a Radiance octree (oconv output): it has no dimensions or \
+                 statistics; rinfo without -d/--stats shows its header"
+            )));
+        }
         Kind::Radiance => match detail {
             Detail::Dimensions => format!("{path}: {}\n", dimensions(r, path)?),
             Detail::Stats => stats(r, path)?,
@@ -524,6 +533,15 @@ pub fn describe(path: &str, detail: Detail, load: &crate::scene::LoadOptions) ->
                  its six header lines (place, latitude, longitude, time_zone, site_elevation, \
                  weather_data_file_units) first",
             );
+        }
+        // Standard input was read into `r` to detect its kind: parse what `r` holds (loading
+        // "-" again found nothing, so `... | rinfo -` said "0 objects").
+        Kind::Scene | Kind::Empty if path == "-" => {
+            let mut bytes = Vec::new();
+            r.read_to_end(&mut bytes).at_path("<stdin>")?;
+            let text = String::from_utf8_lossy(&bytes);
+            let scene = crate::scene::parse_str(&text, "<stdin>", std::path::Path::new(""), load)?;
+            describe_scene(&scene, path)
         }
         Kind::Scene | Kind::Empty => {
             drop(r);

@@ -15,7 +15,7 @@
 //! | [`scene`] | the `.rad` scene description: grammar, inline `!commands`, typed primitives | `src/common/readobj.c` |
 //! | [`info`] | summaries of any of these files (what `rinfo` prints) | `getinfo` |
 
-use rdaylight_base::{colour, error, io, radiometry, vec3};
+use rdaylight_base::{colour, error, io, progress, radiometry, vec3};
 
 pub mod header;
 pub mod hours;

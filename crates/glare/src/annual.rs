@@ -70,6 +70,7 @@ use super::viewrays::ViewRays;
 use crate::error::{Error, Result};
 use crate::formats::sensors::SensorRay;
 use crate::formats::weather::Weather;
+use crate::progress::{Progress, Stage};
 use crate::radiometry::Channels;
 use crate::radiometry::{RGB_PHOTOPIC, WHITE_EFFICACY};
 use crate::rdc::config::{MAX_MF, SUN_ANGLE_DEG};
@@ -164,7 +165,7 @@ pub fn coefficients(
     rays: &ViewRays,
     weather: &str,
     eye_ad: usize,
-    progress: &dyn Fn(&str),
+    progress: &dyn Progress,
 ) -> Result<Coefficients> {
     if base.channels != Channels::rgb() {
         return Err(Error::Usage(
@@ -184,12 +185,15 @@ pub fn coefficients(
     let ray_list: Vec<SensorRay> = (0..rays.len())
         .map(|i| SensorRay::new(rays.org[i], rays.dir[i]))
         .collect();
-    progress("view-ray sky coefficients");
-    let total = Tracer::new(&sky, scene)?.compute(&ray_list)?;
+    // One stage per tracer run, a unit per ray.
+    let trace = |stage: &str, config: &Config, rays: &[SensorRay]| {
+        let s = Stage::new(progress, stage, Some(rays.len() as u64), "rays");
+        Tracer::new(config, scene)?.compute_reporting(rays, s.progress())
+    };
+    let total = trace("view-ray sky coefficients", &sky, &ray_list)?;
     let mut direct = sky.clone();
     direct.sampling.ab = 0;
-    progress("view-ray direct coefficients (-ab 0)");
-    let straight = Tracer::new(&direct, scene)?.compute(&ray_list)?;
+    let straight = trace("view-ray direct coefficients (-ab 0)", &direct, &ray_list)?;
     let vdir = rays.camera.dir();
     let eye = [SensorRay::new(rays.camera.view().vp, vdir)];
     let mut eye_cfg = Config {
@@ -202,14 +206,13 @@ pub fn coefficients(
     // the furnished office summed 0.83 at -ad 4096 -lw 2e-3 against rcontrib's 0.95, 0.97
     // at -lw 1e-5), so the eye sensor gets -lw at most 0.05/-ad.
     eye_cfg.sampling.lw = sky.sampling.lw.min(0.05 / eye_ad as f64);
-    progress("eye sensor coefficients");
-    let eye_total = Tracer::new(&eye_cfg, scene)?.compute(&eye)?;
+    let eye_total = trace("eye sensor coefficients", &eye_cfg, &eye)?;
     eye_cfg.target = Target::Sky {
         mf,
         direct_only: true,
         below_horizon: false,
     };
-    let eye_direct = Tracer::new(&eye_cfg, scene)?.compute(&eye)?;
+    let eye_direct = trace("eye sensor direct coefficients", &eye_cfg, &eye)?;
     let mut sun_cfg = Config {
         target: Target::Suns {
             suns: SunSource::Weather(weather.to_string()),
@@ -220,8 +223,7 @@ pub fn coefficients(
         ..base.clone()
     };
     sun_cfg.sampling.ad = 1; // direct sun coefficients are deterministic
-    progress("eye sensor sun coefficients");
-    let suns = Tracer::new(&sun_cfg, scene)?.compute(&eye)?;
+    let suns = trace("eye sensor sun coefficients", &sun_cfg, &eye)?;
 
     let npatch = SkyPatches::new(mf).len();
     let colour = |p: usize| -> [f64; 3] {
@@ -542,6 +544,7 @@ pub fn evaluate(
     rays: &ViewRays,
     weather: &Weather,
     o: &AnnualOptions,
+    progress: &dyn Progress,
 ) -> Result<Vec<StepResult>> {
     let steps = time_steps(weather);
     if c.sun_direct.len() != steps.len() {
@@ -559,12 +562,15 @@ pub fn evaluate(
             c.npatch
         )));
     }
+    let stage = Stage::new(progress, "time steps", Some(steps.len() as u64), "steps");
     Ok(steps
         .par_iter()
         .enumerate()
         .map(|(t, s)| {
             let sky = step_sky(&patches, s, site, o.sun_angle);
-            evaluate_step(c, rays, &sky, c.sun_direct[t], o)
+            let r = evaluate_step(c, rays, &sky, c.sun_direct[t], o);
+            stage.advance(1);
+            r
         })
         .collect())
 }

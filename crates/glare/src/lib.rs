@@ -29,7 +29,7 @@
 //! Agreement with evalglare 3.06 is tested on the pictures of `radiance-fixtures/glare/`
 //! and `radiance-fixtures/pictures/` (`tests/rglare.rs`).
 
-use rdaylight_base::{error, radiometry, vec3};
+use rdaylight_base::{error, progress, radiometry, vec3};
 use rdaylight_formats as formats;
 use rdaylight_formats::scene;
 use rdaylight_physics::sky;

@@ -15,6 +15,7 @@
 
 use crate::filter::filter;
 use crate::objects::Analysis;
+use rdaylight_base::progress::{Progress, Stage};
 use rdaylight_base::radiometry::luminance_rounded;
 use rdaylight_base::{Error, Result};
 use rdaylight_formats::scene::Scene;
@@ -84,7 +85,7 @@ pub fn study(
     weather: &Weather,
     sensors: &[SensorRay],
     cfg: &StudyConfig,
-    progress: &dyn Fn(&str),
+    progress: &dyn Progress,
 ) -> Result<Vec<LevelResult>> {
     if sensors.is_empty() {
         return Err(Error::Usage(
@@ -94,10 +95,16 @@ pub fn study(
     let sky = OccupiedSky::new(weather, cfg.mf, cfg.occupied)?;
     let mut out: Vec<LevelResult> = Vec::new();
     for level in 0..=crate::MAX_LEVEL {
-        progress(&format!("GLoD{level}"));
+        let stage = Stage::new(
+            progress,
+            &format!("tracing GLoD{level}"),
+            Some(sensors.len() as u64),
+            "sensors",
+        );
         let sub = filter(scene, analysis, level)?;
         let t0 = std::time::Instant::now();
-        let tai = sky.traced_tai(&sub, sensors, cfg)?;
+        let tai = sky.traced_tai(&sub, sensors, cfg, stage.progress())?;
+        drop(stage);
         let trace_seconds = t0.elapsed().as_secs_f64();
         let room_tai = tai.iter().sum::<f64>() / tai.len() as f64;
         out.push(LevelResult {
@@ -204,18 +211,20 @@ impl OccupiedSky {
 
     /// TAI (klx h) per sensor of `scene`, traced for sky coefficients (irradiance) with
     /// `cfg`'s sampling, seed and threads: one level of the study, or one re-simulation.
+    /// Each traced sensor advances `progress` by one.
     pub fn traced_tai(
         &self,
         scene: &Scene,
         sensors: &[SensorRay],
         cfg: &StudyConfig,
+        progress: &dyn Progress,
     ) -> Result<Vec<f64>> {
         let config = Config {
             seed: cfg.seed,
             threads: cfg.threads,
             ..Config::sky_coefficients(cfg.mf, cfg.sampling)
         };
-        let rows = Tracer::new(&config, scene)?.compute(sensors)?;
+        let rows = Tracer::new(&config, scene)?.compute_reporting(sensors, progress)?;
         Ok(rows.iter().map(|r| self.tai_of_row(&r.values)).collect())
     }
 

@@ -23,6 +23,7 @@
 
 use nalgebra::DMatrix;
 use rdaylight_base::Result;
+use rdaylight_base::progress::Progress;
 use rdaylight_base::radiometry::{RGB_PHOTOPIC_ROUNDED, WHITE_EFFICACY};
 use rdaylight_formats::scene::Scene;
 use rdaylight_formats::sensors::SensorRay;
@@ -63,12 +64,13 @@ pub struct Hourly {
 impl LevelModel {
     /// Trace `scene`'s sky coefficients at `sensors` (irradiance) with re-weighting records
     /// for every reflecting or transmitting material (or `cfg.materials`), with the study's
-    /// sampling, sky subdivision, seed and threads.
+    /// sampling, sky subdivision, seed and threads; each sensor advances `progress`.
     pub fn trace(
         scene: &Scene,
         sensors: &[SensorRay],
         cfg: &crate::study::StudyConfig,
         sky: &OccupiedSky,
+        progress: &dyn Progress,
     ) -> Result<LevelModel> {
         let config = Config {
             seed: cfg.trace.seed,
@@ -82,7 +84,7 @@ impl LevelModel {
         let t0 = std::time::Instant::now();
         let tracer = Tracer::new(&config, scene)?;
         let names = tracer.tracked_materials().to_vec();
-        let rows = tracer.compute(sensors)?;
+        let rows = tracer.compute_reporting(sensors, progress)?;
         let trace_seconds = t0.elapsed().as_secs_f64();
         let panes = names
             .iter()

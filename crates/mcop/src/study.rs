@@ -12,6 +12,7 @@ use crate::classes::{self, Grouping, Mcop, Property, Truncation};
 use crate::engine::{LevelModel, WeightedSky};
 use crate::stats::{KsFit, Normality, Summary, dagostino_pearson, ks_curve, ks_normal};
 use rayon::prelude::*;
+use rdaylight_base::progress::{Progress, Stage};
 use rdaylight_base::{Error, Result};
 use rdaylight_formats::scene::Scene;
 use rdaylight_formats::sensors::SensorRay;
@@ -128,7 +129,7 @@ pub fn prepare(
     weather: &Weather,
     sensors: &[SensorRay],
     cfg: &StudyConfig,
-    progress: &dyn Fn(&str),
+    progress: &dyn Progress,
 ) -> Result<Prepared> {
     cfg.validate()?;
     if sensors.is_empty() {
@@ -148,9 +149,15 @@ pub fn prepare(
     wanted.sort_unstable();
     wanted.dedup();
     for &level in &wanted {
-        progress(&format!("tracing GLoD{level}"));
+        let stage = Stage::new(
+            progress,
+            &format!("tracing GLoD{level}"),
+            Some(sensors.len() as u64),
+            "sensors",
+        );
         let sub = filter(scene, analysis, level)?;
-        let model = LevelModel::trace(&sub, sensors, cfg, &sky)?;
+        let model = LevelModel::trace(&sub, sensors, cfg, &sky, stage.progress())?;
+        drop(stage);
         let mut props = model
             .materials
             .iter()
@@ -249,7 +256,8 @@ pub fn draw_scales(p: &PreparedLevel, cfg: &StudyConfig, k: usize, draw: usize) 
 
 /// Every record of this run's draws (all, or the shard's block of draw indices), ordered
 /// by level, sigma, draw. Parallel over draws; each record depends only on its indices.
-pub fn draws(prep: &Prepared, cfg: &StudyConfig) -> Vec<DrawRecord> {
+/// The draws are a stage of `progress`.
+pub fn draws(prep: &Prepared, cfg: &StudyConfig, progress: &dyn Progress) -> Vec<DrawRecord> {
     let range = match cfg.shard {
         Some(s) => s.rows(cfg.draws),
         None => 0..cfg.draws,
@@ -262,7 +270,9 @@ pub fn draws(prep: &Prepared, cfg: &StudyConfig) -> Vec<DrawRecord> {
             }
         }
     }
+    let stage = Stage::new(progress, "draws", Some(jobs.len() as u64), "draws");
     let one = |&(li, k, d): &(usize, usize, usize)| {
+        stage.advance(1);
         let p = &prep.levels[li];
         let scales = draw_scales(p, cfg, k, d);
         let hourly = match (&prep.weighted, &p.free_lux) {

@@ -26,6 +26,7 @@ use crate::classes::{self, Kind, Mcop};
 use crate::engine::LevelModel;
 use crate::stats::mean_sd;
 use crate::study::StudyConfig;
+use rdaylight_base::progress::{Progress, QUIET, Stage};
 use rdaylight_base::{Error, Result};
 use rdaylight_formats::scene::{Primitive, Scene};
 use rdaylight_formats::sensors::SensorRay;
@@ -113,7 +114,8 @@ fn tai_of(
         seed,
         ..cfg.trace.clone()
     };
-    sky.traced_tai(scene, sensors, &trace)
+    // One unit of the caller's stage (a noise run, a re-simulation), not a stage of its own.
+    sky.traced_tai(scene, sensors, &trace, &QUIET)
 }
 
 fn mean(v: &[f64]) -> f64 {
@@ -128,7 +130,7 @@ pub fn validate(
     cfg: &StudyConfig,
     draws: usize,
     noise_runs: usize,
-    progress: &dyn Fn(&str),
+    progress: &dyn Progress,
 ) -> Result<Validation> {
     if !(4..=1000).contains(&noise_runs) {
         return Err(Error::Usage(format!(
@@ -138,8 +140,14 @@ pub fn validate(
     let nu = (noise_runs - 1) as f64;
     let t_rms = (nu / (nu - 2.0)).sqrt();
     let sky = OccupiedSky::new(weather, cfg.trace.mf, cfg.trace.occupied)?;
-    progress("tracing with re-weighting records");
-    let model = LevelModel::trace(scene, sensors, cfg, &sky)?;
+    let stage = Stage::new(
+        progress,
+        "tracing with re-weighting records",
+        Some(sensors.len() as u64),
+        "sensors",
+    );
+    let model = LevelModel::trace(scene, sensors, cfg, &sky, stage.progress())?;
+    drop(stage);
     let props = model
         .materials
         .iter()
@@ -148,8 +156,8 @@ pub fn validate(
     // Seeds of the noise runs and re-simulations: far from the study's.
     let mut noise = Vec::new();
     let t0 = std::time::Instant::now();
+    let stage = Stage::new(progress, "noise runs", Some(noise_runs as u64), "runs");
     for j in 0..noise_runs {
-        progress(&format!("noise run {}/{noise_runs}", j + 1));
         noise.push(tai_of(
             scene,
             sensors,
@@ -157,7 +165,9 @@ pub fn validate(
             cfg.trace.seed + 1_000_000 + j as u64,
             &sky,
         )?);
+        stage.advance(1);
     }
+    drop(stage);
     let mut resim_time = t0.elapsed().as_secs_f64();
     let n = sensors.len();
     let sd_rel: Vec<f64> = (0..n)
@@ -174,6 +184,12 @@ pub fn validate(
     let mut rw_time = 0.0;
     let mut rw_count = 0usize;
     let mut out = Vec::new();
+    let stage = Stage::new(
+        progress,
+        "re-simulations",
+        Some((cfg.sigmas.len() * draws) as u64),
+        "draws",
+    );
     for (k, &sigma) in cfg.sigmas.iter().enumerate() {
         let mcop = Mcop {
             sigma,
@@ -183,7 +199,6 @@ pub fn validate(
         let (mut room_z, mut room_diff, mut zs) = (Vec::new(), Vec::new(), Vec::new());
         let (mut rw_rooms, mut rs_rooms) = (Vec::new(), Vec::new());
         for d in 0..draws {
-            progress(&format!("sigma {sigma}: draw {}/{draws}", d + 1));
             let drawn = mcop.draw(&props, cfg.trace.seed, k, d);
             let scales: Vec<f64> = props.iter().zip(&drawn).map(|(p, &v)| p.scale(v)).collect();
             let t1 = std::time::Instant::now();
@@ -195,6 +210,7 @@ pub fn validate(
             let rs = tai_of(&rebuilt(scene, &props, &drawn), sensors, cfg, seed, &sky)?;
             resim_time += t2.elapsed().as_secs_f64();
             resims += 1;
+            stage.advance(1);
             let (a, b) = (mean(&rw), mean(&rs));
             rw_rooms.push(a);
             rs_rooms.push(b);

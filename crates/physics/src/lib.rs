@@ -13,7 +13,7 @@
 //!
 //! Depends on `rdaylight-base` and `rdaylight-formats` only.
 
-use rdaylight_base::{Error, Location, Result, colour, error, io, radiometry, vec3};
+use rdaylight_base::{Error, Location, Result, colour, error, io, progress, radiometry, vec3};
 use rdaylight_formats as formats;
 use rdaylight_formats::scene;
 

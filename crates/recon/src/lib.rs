@@ -76,4 +76,4 @@ pub mod xyz;
 
 pub use cloud::{Bounds, PointCloud};
 pub use input::read_cloud;
-pub use pipeline::{ReconParams, Reconstruction, reconstruct};
+pub use pipeline::{ReconParams, Reconstruction, reconstruct, reconstruct_reporting};

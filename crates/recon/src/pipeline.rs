@@ -9,6 +9,7 @@ use super::ransac::{self, RansacParams};
 use super::shell::{self, Shell, ShellParams};
 use super::visibility::{Views, assumed_station};
 use crate::error::{Error, Result};
+use rdaylight_base::progress::{Progress, QUIET, Stage};
 use std::time::Instant;
 
 /// Everything the pipeline can be told.
@@ -91,11 +92,23 @@ pub fn spacing(points: &[[f64; 3]]) -> f64 {
 
 /// Run the pipeline on a checked cloud; `select` says which window candidates to cut.
 pub fn reconstruct(
-    mut cloud: PointCloud,
+    cloud: PointCloud,
     p: &ReconParams,
     select: &Selection,
 ) -> Result<Reconstruction> {
+    reconstruct_reporting(cloud, p, select, &QUIET)
+}
+
+/// [`reconstruct`], its steps (preprocessing, planes, shell, windows) reported as stages of
+/// `progress`.
+pub fn reconstruct_reporting(
+    mut cloud: PointCloud,
+    p: &ReconParams,
+    select: &Selection,
+    progress: &dyn Progress,
+) -> Result<Reconstruction> {
     let t0 = Instant::now();
+    let stage = Stage::uncounted(progress, "preprocessing the scan");
     let input_points = cloud.len();
     if let Some(b) = &p.crop {
         preprocess::crop(&mut cloud, b);
@@ -113,6 +126,7 @@ pub fn reconstruct(
         )));
     }
     preprocess::estimate_normals(&mut cloud, p.normal_k);
+    drop(stage);
     let t1 = Instant::now();
     let normals = cloud.normals.clone().unwrap_or_default();
     // The bitmap must bridge the sampling gaps, or one wall falls apart into many components.
@@ -120,14 +134,18 @@ pub fn reconstruct(
         bitmap_resolution: p.ransac.bitmap_resolution.max(1.5 * spacing),
         ..p.ransac.clone()
     };
+    let stage = Stage::uncounted(progress, "planes (RANSAC)");
     let planes = ransac::detect(&cloud.points, &normals, &rp);
+    drop(stage);
     let t2 = Instant::now();
     let sp = ShellParams {
         coverage_cell: p.shell.coverage_cell.max(2.5 * spacing),
         ..p.shell.clone()
     };
+    let stage = Stage::uncounted(progress, "watertight shell (min cut)");
     let prepared = shell::prepare_planes(&planes, &cloud.points, &normals, &sp);
     let shell = shell::select(prepared, &cloud.points, &normals, &sp);
+    drop(stage);
     if !shell.model.faces.iter().any(|f| f.kind == FaceKind::Floor) {
         return Err(Error::Usage(format!(
             "no floor found among {} planes; is +z up and the cloud a room?",
@@ -138,6 +156,7 @@ pub fn reconstruct(
     let op = OpeningParams {
         ..p.openings.clone()
     };
+    let stage = Stage::uncounted(progress, "windows");
     // Stations: the input's (E57 poses, PLY comments, --stations), else the one a
     // single-scan survey would use (visibility module documentation).
     let (stations, stations_assumed) = if cloud.stations.is_empty() {
@@ -166,6 +185,7 @@ pub fn reconstruct(
     let mut polys = model.polygons();
     fix_t_junctions(&mut polys, 1e-6);
     let wt = watertight(&polys, 1e-6);
+    drop(stage);
     let t4 = Instant::now();
     let s = |a: Instant, b: Instant| (b - a).as_secs_f64();
     Ok(Reconstruction {

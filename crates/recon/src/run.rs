@@ -11,9 +11,10 @@ use crate::model::fix_t_junctions;
 use crate::openings::Selection;
 use crate::rooms::{ROOMS, RoomSpec};
 use crate::simulate::{ScanOptions, scan, stations_in_text};
-use crate::{ReconParams, eval, ply, radout, read_cloud, reconstruct, review, summary};
+use crate::{ReconParams, eval, ply, radout, read_cloud, reconstruct_reporting, review, summary};
 use rdaylight_base::error::{Error, IoContext, Result};
 use rdaylight_base::io::write_atomically;
+use rdaylight_base::progress::{Progress, Stage};
 use rdaylight_formats::scene::{self, LoadOptions, Scene};
 use std::io::{Read, Write};
 use std::path::Path;
@@ -74,15 +75,26 @@ pub fn parse_reveal(d: &str) -> Result<Reveal> {
     }
 }
 
-/// Text of `path` (`-`: standard input).
+/// Text of scene file `path` (`-`: standard input); an octree, picture or other file that
+/// is not scene text is named as such ([`scene::check_is_scene`]).
 fn read_text(path: &str) -> Result<String> {
-    if path == "-" {
-        let mut s = String::new();
-        std::io::stdin().read_to_string(&mut s).at_path("<stdin>")?;
-        Ok(s)
+    let mut bytes = Vec::new();
+    let shown = if path == "-" {
+        std::io::stdin()
+            .read_to_end(&mut bytes)
+            .at_path("<stdin>")?;
+        "<stdin>"
     } else {
-        std::fs::read_to_string(path).at_path(path)
-    }
+        bytes = std::fs::read(path).at_path(path)?;
+        path
+    };
+    scene::check_is_scene(&bytes, shown)?;
+    String::from_utf8(bytes).map_err(|e| {
+        Error::io(
+            shown,
+            std::io::Error::new(std::io::ErrorKind::InvalidData, e.utf8_error()),
+        )
+    })
 }
 
 /// A `.rad` file (`-`: standard input) as a scene, and its text.
@@ -126,8 +138,9 @@ pub struct Simulate {
     pub seed: u64,
 }
 
-/// Run `rrecon simulate`: the scan as binary PLY on `out`.
-pub fn simulate_run(a: &Simulate, out: &mut dyn Write) -> Result<()> {
+/// Run `rrecon simulate`: the scan as binary PLY on `out`; the scan is a stage of
+/// `progress`.
+pub fn simulate_run(a: &Simulate, out: &mut dyn Write, progress: &dyn Progress) -> Result<()> {
     let (scene, text) = load_scene(&a.scene)?;
     let mut stations = a
         .stations
@@ -151,7 +164,9 @@ pub fn simulate_run(a: &Simulate, out: &mut dyn Write) -> Result<()> {
         seed: a.seed,
         ..Default::default()
     };
+    let stage = Stage::uncounted(progress, "simulating the scan");
     let cloud = scan(&scene, &opts)?;
+    drop(stage);
     output(None, out, |w| ply::write(w, &cloud).at_path("<stdout>"))
 }
 
@@ -310,9 +325,17 @@ fn candidates_note(sum: &summary::Summary, auto_min_area: f64) -> String {
 
 /// Run the reconstruction: the `.rad` model to `a.output` or `out`, the review and JSON
 /// files, and notes (candidates when none were cut, an open model) on `err`.
-pub fn reconstruct_run(a: &Reconstruct, out: &mut dyn Write, err: &mut dyn Write) -> Result<()> {
+/// The steps are stages of `progress`.
+pub fn reconstruct_run(
+    a: &Reconstruct,
+    out: &mut dyn Write,
+    err: &mut dyn Write,
+    progress: &dyn Progress,
+) -> Result<()> {
     let input = a.input.as_str();
+    let stage = Stage::uncounted(progress, "reading the scan");
     let mut cloud = read_cloud(input)?;
+    drop(stage);
     let name = if input == "-" { "<stdin>" } else { input };
     let s = unit_scale(&a.units)?;
     if s != 1.0 {
@@ -332,7 +355,7 @@ pub fn reconstruct_run(a: &Reconstruct, out: &mut dyn Write, err: &mut dyn Write
         Some(m) => Some(load_scene(m)?.0),
         None => None,
     };
-    let r = reconstruct(cloud, p, &a.selection)?;
+    let r = reconstruct_reporting(cloud, p, &a.selection, progress)?;
     let mut polys = r.model.polygons();
     fix_t_junctions(&mut polys, 1e-6);
     let scene = radout::to_scene(&polys, materials.as_ref())?;

@@ -7,7 +7,7 @@
 //!
 //! Depends on the formats and physics layers only; the analyses call it directly.
 
-use rdaylight_base::{error, io, radiometry};
+use rdaylight_base::{error, io, progress, radiometry};
 use rdaylight_formats as formats;
 use rdaylight_formats::scene;
 use rdaylight_physics::{calc, geometry, material, sky};

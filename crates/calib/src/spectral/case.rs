@@ -21,7 +21,6 @@ use crate::formats::weather::Weather;
 use crate::measurements::Bound;
 use crate::radiometry::Channels;
 use crate::session::Options;
-use crate::simulate::Settings;
 
 /// Independent per-channel noise (relative, log-normal).
 pub const CHANNEL_SIGMA: f64 = 0.01;
@@ -81,8 +80,7 @@ pub fn generate(
     hidden: Vec<Effect>,
     nsteps: usize,
     seed: u64,
-    truth: &Settings,
-    cache: Option<std::path::PathBuf>,
+    truth: &Options,
     ch: &Channels,
 ) -> Result<SpectralCase> {
     let (model_text, _) = room(kind);
@@ -94,7 +92,6 @@ pub fn generate(
         nsteps,
         seed,
         truth,
-        cache,
     )?;
     let bound = t.bound(sensors.len(), 0.0);
     let (sim, _) = simulate_scene(&t.truth_scene, &sensors, &weather, &bound, &t.opts, ch)?;

@@ -27,6 +27,7 @@ use super::{
 use crate::error::{Error, Result};
 use crate::header::Header;
 use crate::hours::{ChunkManifest, HOURS_VAR, HourSpan, HoursInfo};
+use crate::progress::{Progress, Stage};
 use crate::radiometry::Channels;
 use crate::shard::{InputSum, Manifest, SHARD_VAR, ShardInfo};
 use std::io::{BufRead, Read, Write};
@@ -160,9 +161,9 @@ impl Pipeline {
         Ok(())
     }
 
-    /// Run the job, writing to `out` (`name` in errors); `progress(rows, finished)` is
-    /// called every 256 rows and once at the end.
-    pub fn run<W: Write>(&self, out: W, name: &str, progress: &dyn Fn(usize, bool)) -> Result<()> {
+    /// Run the job, writing to `out` (`name` in errors); the rows written are a stage of
+    /// `progress` (a unit per row).
+    pub fn run<W: Write>(&self, out: W, name: &str, progress: &dyn Progress) -> Result<()> {
         let inputs = self.inputs();
         self.check_options(&inputs)?;
         if self.verify {
@@ -230,13 +231,18 @@ impl Pipeline {
         let out_ncols = ops.out_ncols(ncols);
         let mut row = vec![0.0; ncols * ncomp];
         let mut done = 0usize;
+        let what = match (self.stack, self.columns, inputs.len()) {
+            (true, _, _) => "concatenating",
+            (_, true, _) => "joining columns",
+            (_, _, 1) => "converting",
+            _ => "product",
+        };
+        let stage = Stage::new(progress, what, o.nrows.map(|n| n as u64), "rows");
         let mut each = |o: &mut Opened, f: &mut dyn FnMut(&[f64]) -> Result<()>| -> Result<()> {
             while o.next_row(&mut row)? {
                 f(ops.apply(&row))?;
                 done += 1;
-                if done % 256 == 0 {
-                    progress(done, false);
-                }
+                stage.advance(1);
             }
             Ok(())
         };
@@ -258,7 +264,7 @@ impl Pipeline {
             each(&mut o, &mut |v| w.write_row(v))?;
             w.finish()?;
         }
-        progress(done, true);
+        drop(stage);
         if let (Some(path), Some(h)) = (&self.manifest, &o.hours) {
             ChunkManifest {
                 tool: "rmtx".into(),
@@ -386,7 +392,7 @@ impl Pipeline {
         shards: Vec<(String, Header, usize)>,
         mut out: W,
         name: &str,
-        progress: &dyn Fn(usize, bool),
+        progress: &dyn Progress,
     ) -> Result<()> {
         if !self.coefs.is_empty() || !self.scale.is_empty() || self.transpose {
             return Err(Error::Usage(
@@ -448,7 +454,12 @@ impl Pipeline {
                 .write(&mut out, align)
                 .map_err(|e| Error::io(name, e))?;
         }
-        let mut total = 0;
+        let stage = Stage::new(
+            progress,
+            "merging shards",
+            Some(shards.iter().map(|(_, _, n)| *n as u64).sum()),
+            "rows",
+        );
         for (p, _, nrows) in &shards {
             let f = std::fs::File::open(p).map_err(|e| Error::io(p, e))?;
             let mut r = std::io::BufReader::with_capacity(1 << 16, f);
@@ -467,10 +478,9 @@ impl Pipeline {
                      incomplete shard?"
                 )));
             }
-            total += nrows;
+            stage.advance(*nrows as u64);
         }
         out.flush().map_err(|e| Error::io(name, e))?;
-        progress(total, true);
         Ok(())
     }
 
@@ -592,7 +602,7 @@ impl Pipeline {
         chunks: Vec<(String, Header)>,
         mut out: W,
         name: &str,
-        progress: &dyn Fn(usize, bool),
+        progress: &dyn Progress,
     ) -> Result<()> {
         if !self.coefs.is_empty() || !self.scale.is_empty() || self.transpose {
             return Err(Error::Usage(
@@ -673,7 +683,8 @@ impl Pipeline {
         }
         let last = files.len() - 1;
         let mut piece = Vec::new();
-        for row in 0..nrows {
+        let stage = Stage::new(progress, "merging hour chunks", Some(nrows as u64), "rows");
+        for _ in 0..nrows {
             for (k, (r, p)) in files.iter_mut().zip(inputs).enumerate() {
                 if binary {
                     piece.resize(row_bytes[k], 0);
@@ -689,12 +700,9 @@ impl Pipeline {
                 }
                 out.write_all(&piece).map_err(|e| Error::io(name, e))?;
             }
-            if row % 256 == 255 {
-                progress(row + 1, false);
-            }
+            stage.advance(1);
         }
         out.flush().map_err(|e| Error::io(name, e))?;
-        progress(nrows, true);
         Ok(())
     }
 }

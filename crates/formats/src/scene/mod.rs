@@ -13,6 +13,7 @@
 //! | [`specdata`] | the 1-D data file of a `specfile` |
 //! | `write` | canonical `.rad` output ([`std::fmt::Display`], [`Scene::write_rad`]) |
 //! | `bbox` | [`Scene::bounding_box`] as `getbbox` computes it |
+//! | `wrong_kind` | inputs that are not scene text (octrees, pictures, matrices, weather), named as such |
 //!
 //! ```no_run
 //! use rdaylight_formats::scene::{self, LoadOptions};
@@ -32,6 +33,7 @@ mod parse;
 pub mod primitive;
 pub mod specdata;
 mod write;
+mod wrong_kind;
 
 use std::path::Path;
 
@@ -39,6 +41,7 @@ pub use bbox::BBox;
 pub use otype::{Class, Count, OType};
 pub use primitive::{Primitive, Vec3};
 pub use specdata::SpecData;
+pub use wrong_kind::{check as check_is_scene, is_octree};
 
 use crate::error::{Error, Location, Result};
 

@@ -235,6 +235,7 @@ impl<'o> Loader<'o> {
             let mut buf = Vec::new();
             std::io::Read::read_to_end(&mut std::io::stdin(), &mut buf)
                 .map_err(|e| Error::io("<stdin>", e))?;
+            super::wrong_kind::check(&buf, "<stdin>")?;
             let text = String::from_utf8_lossy(&buf);
             self.parse(&text, "<stdin>".into(), PathBuf::new(), 0)
         } else if let Some(cmd) = input.strip_prefix('!') {
@@ -243,6 +244,7 @@ impl<'o> Loader<'o> {
             self.parse(&out, input.to_string(), PathBuf::new(), 1)
         } else {
             let buf = std::fs::read(input).map_err(|e| Error::io(input, e))?;
+            super::wrong_kind::check(&buf, input)?;
             let text = String::from_utf8_lossy(&buf);
             let dir = Path::new(input)
                 .parent()

@@ -1293,6 +1293,15 @@ fn cell_params(idx: &[usize]) -> (f64, f64, f64, f64, bool) {
 
 /// Precompute all tables (parallel over the radius axis; deterministic).
 pub fn precompute(atm: &Atmosphere) -> Result<Tables> {
+    precompute_reporting(atm, &crate::progress::QUIET)
+}
+
+/// [`precompute`], advancing `progress` by one per scattering order (single scattering is
+/// the first, each multiple-scattering order one more: `atm.scattering_order` in all).
+pub fn precompute_reporting(
+    atm: &Atmosphere,
+    progress: &dyn crate::progress::Progress,
+) -> Result<Tables> {
     if atm.scattering_order < 2 {
         return Err(Error::Usage(format!(
             "scattering order {}: expected at least 2",
@@ -1359,6 +1368,7 @@ pub fn precompute(atm: &Atmosphere) -> Result<Tables> {
             })
             .collect()
     };
+    progress.advance(1);
     let mut ray1 = Table::zeros(&sdims);
     let mut mie1 = Table::zeros(&sdims);
     for (k, (a, b)) in pairs.iter().enumerate() {
@@ -1428,6 +1438,7 @@ pub fn precompute(atm: &Atmosphere) -> Result<Tables> {
                 scattering.data[k * NSSAMP + b] += multi.data[k * NSSAMP + b] / p;
             }
         }
+        progress.advance(1);
     }
     tables.scattering = scattering;
     tables.single_mie = mie1;

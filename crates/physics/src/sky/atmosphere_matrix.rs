@@ -75,7 +75,7 @@
 //! Unlike the Perez-based `rspecsky -cs N` ([`super::spectral`]: -24 % to +11 % photopic
 //! and 3-15 % bluer than gensdaymtx on other London days), this mode is gensdaymtx's sky.
 
-use super::atmosphere::cache::{CacheStatus, load_or_compute};
+use super::atmosphere::cache::{CacheStatus, load_or_compute_reporting};
 use super::atmosphere::{
     Atmosphere, BAND_WIDTH, Climate, EARTH_RADIUS, MieProfile, NSSAMP, SPAN, SUN_SOLID_ANGLE,
     Tables, WL_MAX, WL_MIN,
@@ -88,6 +88,7 @@ use crate::error::{Error, Result};
 use crate::formats::weather::Site;
 use crate::formats::weather::Weather;
 use crate::formats::weather::epw::{Epw, EpwField};
+use crate::progress::{Progress, Stage};
 use crate::radiometry::{Channels, WHITE_EFFICACY};
 use rayon::prelude::*;
 use std::f64::consts::PI;
@@ -317,7 +318,9 @@ pub struct TableUse {
     pub status: CacheStatus,
 }
 
-/// Compute the matrix; tables are loaded from (or computed into) `cache_dir`.
+/// Compute the matrix; tables are loaded from (or computed into) `cache_dir`. Computing a
+/// table set, and the columns of each set, are stages of `progress`.
+#[allow(clippy::too_many_arguments)] // the matrix's inputs, plus where progress goes
 pub fn atmosphere_matrix(
     patches: &SkyPatches,
     steps: &[AtmosphereStep],
@@ -326,6 +329,7 @@ pub fn atmosphere_matrix(
     mie: &MieProfile,
     cache_dir: &Path,
     ch: &Channels,
+    progress: &dyn Progress,
 ) -> Result<(AtmosphereMatrix, Vec<TableUse>)> {
     if !(0.0..=1.0).contains(&opts.ground_reflectance) {
         return Err(Error::Usage(format!(
@@ -359,7 +363,14 @@ pub fn atmosphere_matrix(
             mie: mie.clone(),
             scattering_order: 4,
         };
-        let (tables, status) = load_or_compute(cache_dir, &atm)?;
+        let (tables, status) = load_or_compute_reporting(cache_dir, &atm, progress)?;
+        let this_set = steps.iter().filter(|s| key(s) == (climate, aod)).count();
+        let stage = Stage::new(
+            progress,
+            &format!("sky matrix ({}, AOD {aod})", climate.tag()),
+            Some(this_set as u64),
+            "time steps",
+        );
         used.push(TableUse {
             climate,
             aod,
@@ -377,9 +388,11 @@ pub fn atmosphere_matrix(
                         v.push(bands.iter().zip(w).map(|(a, b)| a * b).sum::<f64>() as f32);
                     }
                 }
+                stage.advance(1);
                 (j, v)
             })
             .collect();
+        drop(stage);
         for (j, v) in cols {
             data[j] = v;
         }

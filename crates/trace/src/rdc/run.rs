@@ -27,6 +27,7 @@ use crate::formats::shard::{
 use crate::formats::view::{Camera, View};
 use crate::geometry::vec3::normalized;
 use crate::material::ShadingOptions;
+use crate::progress::{Progress, QUIET, Stage};
 use crate::radiometry::{Channels, RGB_PHOTOPIC, luminance_rounded};
 use crate::scene::{LoadOptions, Scene};
 use crate::sky::SkyPatches;
@@ -157,12 +158,14 @@ impl Job<'_> {
         }
     }
 
-    /// Compute a block of records in parallel; results in input order.
+    /// Compute a block of records in parallel; results in input order. Each finished
+    /// record advances `progress` by one.
     pub fn block<T: Sync>(
         &self,
         first_index: u64,
         items: &[T],
         query: &(dyn Fn(&T, &mut Rng) -> Option<Query> + Sync),
+        progress: &dyn Progress,
     ) -> Vec<RecordResult> {
         let ncols = self.mode.ncols();
         items
@@ -175,7 +178,9 @@ impl Job<'_> {
                     if self.terms { t.with_terms() } else { t }
                 },
                 |tally, (i, item)| {
-                    self.compute(first_index + i as u64, &|rng| query(item, rng), tally)
+                    let r = self.compute(first_index + i as u64, &|rng| query(item, rng), tally);
+                    progress.advance(1);
+                    r
                 },
             )
             .collect()
@@ -381,6 +386,16 @@ impl Tracer {
     /// [`RecordResult`] holds `ncols * ncomp` values (columns outer). Record `i` is seeded as
     /// row `i` of the `rdc` tool, so the numbers equal its output.
     pub fn compute(&self, rays: &[SensorRay]) -> Result<Vec<RecordResult>> {
+        self.compute_reporting(rays, &QUIET)
+    }
+
+    /// [`Tracer::compute`], advancing `progress` by one per record (the caller names the
+    /// stage: `Stage::new(p, "sky coefficients", Some(rays.len() as u64), "records")`).
+    pub fn compute_reporting(
+        &self,
+        rays: &[SensorRay],
+        progress: &dyn Progress,
+    ) -> Result<Vec<RecordResult>> {
         let job = self.job();
         let irradiance = self.config.irradiance;
         let query = move |r: &SensorRay, _: &mut Rng| sensor_query(r, irradiance);
@@ -389,7 +404,7 @@ impl Tracer {
             let mut out = Vec::with_capacity(rays.len());
             for (b, block) in rays.chunks(job.block_len()).enumerate() {
                 let first = (b * job.block_len()) as u64;
-                out.extend(job.block(first, block, &query));
+                out.extend(job.block(first, block, &query, progress));
             }
             out
         }))
@@ -492,14 +507,19 @@ impl Run {
 }
 
 /// Everything `rdc` does after option parsing: load and compile the scene, then stream
-/// sensors from standard input (or the picture's pixels) to standard output.
-pub fn main(run: &Run) -> Result<()> {
+/// sensors from standard input (or the picture's pixels) to standard output. The stages
+/// (loading, compiling, tracing) are reported to `progress`.
+pub fn main(run: &Run, progress: &dyn Progress) -> Result<()> {
     run.validate()?;
     // Scene first: its errors come before anything is read or written.
     let t_start = std::time::Instant::now();
+    let stage = Stage::uncounted(progress, "loading the scene");
     let scene = crate::scene::load(&run.scene, &run.load)?;
+    drop(stage);
     let load_time = t_start.elapsed();
+    let stage = Stage::uncounted(progress, "compiling the scene");
     let tracer = Tracer::build(&run.config, &scene, Some(&run.scene), &run.command)?;
+    drop(stage);
     drop(scene);
     let channels = tracer.channels;
     let job = tracer.job();
@@ -519,7 +539,15 @@ pub fn main(run: &Run) -> Result<()> {
     let (result, written) = pool.install(|| {
         let mut out = HashingWriter::new(stdout.lock());
         let result = match &run.view {
-            Some(v) => picture(run, &job, *v, out_channels, (&mut out, seekable), reweight),
+            Some(v) => picture(
+                run,
+                &job,
+                *v,
+                out_channels,
+                (&mut out, seekable),
+                reweight,
+                progress,
+            ),
             None => {
                 let stdin = std::io::stdin();
                 let hashed = HashingReader::new(stdin.lock(), sensor_hash.clone());
@@ -531,6 +559,7 @@ pub fn main(run: &Run) -> Result<()> {
                     out_channels,
                     (&mut out, seekable),
                     reweight,
+                    progress,
                 )
             }
         };
@@ -680,28 +709,6 @@ fn to_output(values: &[f64], oi: bool) -> Vec<f64> {
         .collect()
 }
 
-/// Progress on a terminal only.
-struct Progress {
-    show: bool,
-    total: Option<usize>,
-}
-
-impl Progress {
-    fn update(&self, done: usize) {
-        if self.show {
-            match self.total {
-                Some(t) => eprint!("\rrdc: {done} / {t} records"),
-                None => eprint!("\rrdc: {done} records"),
-            }
-        }
-    }
-    fn end(&self) {
-        if self.show {
-            eprintln!();
-        }
-    }
-}
-
 /// Sensor mode: rays from `reader`, one output row per ray (with `--shard`, per ray of the
 /// shard's block: every ray is read, so the split and the seeds are the unsharded run's).
 #[allow(clippy::too_many_arguments)]
@@ -712,6 +719,7 @@ pub fn sensors<R: BufRead, W: Write>(
     channels: Channels,
     (out, seekable): (W, bool),
     reweight: Option<&ReweightOut>,
+    progress: &dyn Progress,
 ) -> Result<Rows> {
     let (command, format) = (&run.command, run.output);
     let irradiance = run.config.irradiance;
@@ -750,10 +758,7 @@ pub fn sensors<R: BufRead, W: Write>(
         run.header,
         seekable,
     )?;
-    let progress = Progress {
-        show: crate::io::show_progress(),
-        total: Some(nrows),
-    };
+    let stage = Stage::new(progress, "tracing", Some(rows.len() as u64), "records");
     let block_len = job.block_len();
     let mut pending = pending.into_iter();
     // Rays before the shard's block are read (counted for -y) and skipped.
@@ -788,7 +793,7 @@ pub fn sensors<R: BufRead, W: Write>(
                 format!("more than the {nrows} sensors announced with -y"),
             ));
         }
-        let results = job.block(done as u64, &block, &query);
+        let results = job.block(done as u64, &block, &query, progress);
         for r in &results {
             sink.write_row(&to_output(&r.values, run.illuminance))?;
             se_out.write(r)?;
@@ -796,9 +801,8 @@ pub fn sensors<R: BufRead, W: Write>(
         }
         sink.flush()?;
         done += block.len();
-        progress.update(done);
     }
-    progress.end();
+    drop(stage);
     // Rays after the shard's block: read, so that -y's count is still checked.
     if run.y.is_some() && done == rows.end {
         for r in reader.by_ref() {
@@ -836,6 +840,7 @@ fn picture<W: Write>(
     channels: Channels,
     (out, seekable): (W, bool),
     reweight: Option<&ReweightOut>,
+    progress: &dyn Progress,
 ) -> Result<Rows> {
     let (command, format) = (&run.command, run.output);
     let cam: Camera = view.setup()?;
@@ -898,10 +903,7 @@ fn picture<W: Write>(
             channels,
         )?
     };
-    let progress = Progress {
-        show: crate::io::show_progress(),
-        total: Some(nrec),
-    };
+    let stage = Stage::new(progress, "tracing", Some(nrec as u64), "pixels");
     // Whole scanlines per block, so picture rows can be written as they complete.
     let lines_per_block = (job.block_len() / xres).max(1);
     let mut py = lines.start;
@@ -910,7 +912,7 @@ fn picture<W: Write>(
         let pixels: Vec<(usize, usize)> = (py..end)
             .flat_map(|y| (0..xres).map(move |x| (x, y)))
             .collect();
-        let results = job.block((py * xres) as u64, &pixels, &query);
+        let results = job.block((py * xres) as u64, &pixels, &query, progress);
         if matrix {
             for r in &results {
                 sink.write_row(&r.values)?;
@@ -927,9 +929,8 @@ fn picture<W: Write>(
         }
         sink.flush()?;
         py = end;
-        progress.update((py - lines.start) * xres);
     }
-    progress.end();
+    drop(stage);
     se_out.finish()?;
     rw_out.finish()?;
     sink.finish()?;

@@ -17,8 +17,9 @@
 //! a fresh one. A file that is short, has another key, other dimensions or a wrong checksum
 //! is reported and recomputed (then replaced atomically); it never stops the run.
 
-use super::{Atmosphere, NSSAMP, Table, Tables, precompute};
+use super::{Atmosphere, NSSAMP, Table, Tables, precompute_reporting};
 use crate::error::{Error, Result};
+use crate::progress::{Progress, QUIET, Stage};
 use std::path::{Path, PathBuf};
 
 const MAGIC: &[u8; 8] = b"RDAYATM1";
@@ -194,7 +195,19 @@ pub const DIMS: [&[usize]; 4] = [&[64, 256], &[16, 64, 16, 4], &[16, 64, 16, 4],
 
 /// Precompute with rounding to f32 (so fresh and cached tables are identical).
 pub fn compute(atm: &Atmosphere) -> Result<Tables> {
-    let mut t = precompute(atm)?;
+    compute_reporting(atm, &QUIET)
+}
+
+/// [`compute`] as one stage of `progress`, a unit per scattering order.
+pub fn compute_reporting(atm: &Atmosphere, progress: &dyn Progress) -> Result<Tables> {
+    let name = format!("atmosphere tables ({}, AOD {})", atm.climate.tag(), atm.aod);
+    let stage = Stage::new(
+        progress,
+        &name,
+        Some(atm.scattering_order.max(1) as u64),
+        "scattering orders",
+    );
+    let mut t = precompute_reporting(atm, stage.progress())?;
     round_to_f32(&mut t);
     Ok(t)
 }
@@ -216,6 +229,15 @@ pub fn default_dir() -> PathBuf {
 /// Tables for `atm`, from `dir/atmos_data` when a valid entry exists, else computed and
 /// stored there (the folder is created).
 pub fn load_or_compute(dir: &Path, atm: &Atmosphere) -> Result<(Tables, CacheStatus)> {
+    load_or_compute_reporting(dir, atm, &QUIET)
+}
+
+/// [`load_or_compute`]; a computation is a stage of `progress` ([`compute_reporting`]).
+pub fn load_or_compute_reporting(
+    dir: &Path,
+    atm: &Atmosphere,
+    progress: &dyn Progress,
+) -> Result<(Tables, CacheStatus)> {
     let file = path(dir, atm);
     let k = key(atm);
     let mut reason = None;
@@ -227,7 +249,7 @@ pub fn load_or_compute(dir: &Path, atm: &Atmosphere) -> Result<(Tables, CacheSta
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => {}
         Err(e) => reason = Some(e.to_string()),
     }
-    let t = compute(atm)?;
+    let t = compute_reporting(atm, progress)?;
     let parent = file.parent().unwrap_or(dir);
     std::fs::create_dir_all(parent).map_err(|e| Error::io(parent.display().to_string(), e))?;
     let bytes = encode(&t, &k);

@@ -88,7 +88,7 @@ impl GensskyConfig {
             None => cache::default_dir(),
         };
         let start = std::time::Instant::now();
-        let work = || cache::load_or_compute(&cache_dir, &atm);
+        let work = || cache::load_or_compute_reporting(&cache_dir, &atm, msgs.progress());
         let (tables, status) = if self.threads > 0 {
             rayon::ThreadPoolBuilder::new()
                 .num_threads(self.threads)

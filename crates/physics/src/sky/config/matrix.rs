@@ -13,6 +13,7 @@ use crate::formats::matrix::writer::{DOUBLE_DIGITS, FLOAT_DIGITS};
 use crate::formats::matrix::{DataFormat, MatrixWriter, WriteOptions};
 use crate::formats::weather::Weather;
 use crate::formats::weather::epw::Epw;
+use crate::progress::Stage;
 use crate::radiometry::Channels;
 use crate::sky::atmosphere::cache::{self, CacheStatus};
 use crate::sky::atmosphere_matrix::{
@@ -23,6 +24,7 @@ use crate::sky::spectral::spectral_sky_matrix;
 use crate::sky::{PerezOptions, SkyPatches};
 use std::io::Write;
 use std::path::PathBuf;
+use std::sync::atomic::{AtomicU64, Ordering};
 
 /// The sky model of the matrix (`--model`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -225,7 +227,19 @@ impl SkyMatrixConfig {
             skip_night: self.skip_night,
         };
         let patches = SkyPatches::new(self.mf);
-        let progress = |done: usize, total: usize| msgs.progress(done, total);
+        // The matrix functions say how many steps are done after each block; the stage
+        // counts what each call adds.
+        let stage = Stage::new(
+            msgs.progress(),
+            "sky matrix",
+            Some(steps.len() as u64),
+            "time steps",
+        );
+        let counted = AtomicU64::new(0);
+        let progress = |done: usize, _total: usize| {
+            let before = counted.fetch_max(done as u64, Ordering::Relaxed);
+            stage.advance((done as u64).saturating_sub(before));
+        };
         let spectral = self.bands.map(|b| b.channels(18)).transpose()?;
         let mut header = self.header(weather);
         let wopts = self.write_options();
@@ -288,8 +302,16 @@ impl SkyMatrixConfig {
             steps.len(),
             dir.display()
         ));
-        let (mtx, used) =
-            atmosphere_matrix(&patches, &steps, &weather.site, &opts, &mie, &dir, &ch)?;
+        let (mtx, used) = atmosphere_matrix(
+            &patches,
+            &steps,
+            &weather.site,
+            &opts,
+            &mie,
+            &dir,
+            &ch,
+            msgs.progress(),
+        )?;
         let mut header = self.header(weather);
         header.set(
             "SKYMODEL",

@@ -21,11 +21,14 @@ pub use matrix::{Bands, SkyMatrixConfig, SkyModel};
 pub use point::{PointSkyConfig, PointSkyInput};
 
 use super::matrix::Colours;
+use crate::progress::{Progress, QUIET};
 
 /// Where a sky generator reports while it works (the tool: standard error).
 pub trait Messages: Sync {
-    /// `done` of `total` time steps computed.
-    fn progress(&self, _done: usize, _total: usize) {}
+    /// Where the stages go (time steps of a matrix, atmosphere tables being computed).
+    fn progress(&self) -> &dyn Progress {
+        &QUIET
+    }
     /// Progress-level information (what is being computed, where the tables are).
     fn info(&self, _msg: &str) {}
     /// A warning the user should always see.
