@@ -24,7 +24,10 @@ Top level: cases.tsv (one line per case) and VERSION (rtrace -version).
 
 Usage: radiance-fixtures/calib-cases/make_cases.py [CASE ...]   (all cases by default)
   SCENES_ONLY=1  rewrite model.rad, truth.rad and sensors.csv only (same geometry)
+  OUT=DIR        write the cases there instead of beside this script
   AD=65536 AB=10 JOBS=2  sampling and parallel rtrace processes
+  REFINE_DIFF=0.012 MAX_REFINE=16  sensors whose two runs differ by more (RMS) are traced
+                again at up to 16 x AD (per-sensor -ad in case.json)
   RADIANCE_BIN=/path/to/radiance/bin  optional; otherwise pip's pyradiance.
 About 4 CPU-minutes per case at the defaults.
 """
@@ -43,11 +46,17 @@ import numpy as np
 
 HERE = Path(__file__).resolve().parent
 FIXTURES = HERE.parent
+# Where the cases go (OUT=DIR for a trial run that leaves the committed ones alone).
+DEST = Path(os.environ.get("OUT", HERE))
 EPW = FIXTURES.parent / "examples" / "weather" / "GBR_London.Gatwick.037760_IWEC.epw"
 SKYGLOW = FIXTURES / "skies" / "skyglow.rad"
 AD = int(os.environ.get("AD", "65536"))
 AB = int(os.environ.get("AB", "10"))
 JOBS = int(os.environ.get("JOBS", "2"))
+# Per-sensor refinement (see make_case): target RMS difference of the two runs, and the
+# largest factor on -ad it may use.
+REFINE_DIFF = float(os.environ.get("REFINE_DIFF", "0.012"))
+MAX_REFINE = int(os.environ.get("MAX_REFINE", "16"))
 # -aa 0: pure Monte Carlo, no irradiance cache (its interpolation error is not random);
 # -lw below 1/AD so that roulette, not a weight cut, ends the paths.
 RTRACE = ["rtrace", "-h", "-I", "-ab", str(AB), "-ad", str(AD), "-aa", "0", "-as", "0", "-lw", "1e-6"]
@@ -441,8 +450,8 @@ def lux(line):
 def make_case(case, env, work):
     room = ROOMS[case["room"]]
     site = SITES[case["site"]]
-    out = HERE / case["name"]
-    out.mkdir(exist_ok=True)
+    out = DEST / case["name"]
+    out.mkdir(parents=True, exist_ok=True)
     model = build_room(room, BASE_MATS, case["facing"])
     truth = build_room(room, case.get("mats", BASE_MATS), case["facing"], case.get("extras", ()))
     (out / "model.rad").write_text(model)
@@ -487,6 +496,42 @@ def make_case(case, env, work):
 
     with ThreadPoolExecutor(JOBS) as pool:
         res = list(pool.map(one, range(len(steps))))
+    # Sensors whose two runs differ by more than REFINE_DIFF (RMS over the steps) are traced
+    # again at AD x k, k = the power of 2 that brings the expected difference under it
+    # (Monte Carlo error ~ 1/sqrt(samples)), at most MAX_REFINE: the back of a deep room
+    # needs far more samples than the window row, and Radiance has no per-ray -ad.
+    ad_of = [AD] * len(sens)
+    diffs = []
+    for i in range(len(sens)):
+        r = [(a - b) / (0.5 * (a + b)) for a, b in (res[k][i] for k in range(len(steps))) if a + b > 0]
+        diffs.append(math.sqrt(sum(x * x for x in r) / max(len(r), 1)))
+    for i, dv in enumerate(diffs):
+        if dv > REFINE_DIFF:
+            k = 1
+            while k < MAX_REFINE and dv / math.sqrt(k) > REFINE_DIFF:
+                k *= 2
+            ad_of[i] = AD * k
+    redo = [i for i in range(len(sens)) if ad_of[i] > AD]
+
+    def again(k):
+        out = {}
+        for i in redo:
+            cmd = RTRACE[:]
+            cmd[cmd.index("-ad") + 1] = str(ad_of[i])
+            line = pts.splitlines()[i] + "\n"
+            a = subprocess.run(cmd + [f"s{k}.oct"], cwd=wdir, env=env, input=line, text=True,
+                               capture_output=True, check=True).stdout.splitlines()[0]
+            b = subprocess.run(cmd + [f"s{k}.oct"], cwd=wdir, env=env, input=DUMMY + line,
+                               text=True, capture_output=True, check=True).stdout.splitlines()[1]
+            out[i] = (lux(a), lux(b))
+        print(f"{case['name']}: step {k + 1}/{len(steps)} refined ({len(redo)} sensors)", file=sys.stderr)
+        return out
+
+    if redo:
+        with ThreadPoolExecutor(JOBS) as pool:
+            for k, found in enumerate(pool.map(again, range(len(steps)))):
+                for i, v in found.items():
+                    res[k][i] = v
     rng = np.random.default_rng(1000 + case["seed"])
     cal = np.exp(rng.normal(0.0, SENSOR_SIGMA, len(sens)))
     tsv = ["month\tday\thour\tsensor\tlux_run1\tlux_run2"]
@@ -504,7 +549,7 @@ def make_case(case, env, work):
     (out / "readings.csv").write_text("\n".join(csv) + "\n")
     meta = dict(name=case["name"], room=room, site=site, facing=case["facing"],
                 hidden=case["truth"], sensors=len(sens), steps=len(steps),
-                sampling=" ".join(RTRACE[1:]), sensor_sigma=SENSOR_SIGMA,
+                sampling=" ".join(RTRACE[1:]), ad_per_sensor=ad_of, sensor_sigma=SENSOR_SIGMA,
                 reading_sigma=READING_SIGMA, noise_seed=1000 + case["seed"])
     (out / "case.json").write_text(json.dumps(meta, indent=1) + "\n")
     fam = "+".join(t["effect"] for t in case["truth"]) or "nothing"
@@ -513,7 +558,7 @@ def make_case(case, env, work):
 
 def write_index(line):
     """Add or replace one case's line of cases.tsv (kept in CASES order)."""
-    index = HERE / "cases.tsv"
+    index = DEST / "cases.tsv"
     old = {}
     if index.exists():
         for row in index.read_text().splitlines()[1:]:
@@ -539,7 +584,7 @@ def main():
                     write_index(line)
     finally:
         shutil.rmtree(work)
-    (HERE / "VERSION").write_text(run(["rtrace", "-version"], env))
+    (DEST / "VERSION").write_text(run(["rtrace", "-version"], env))
 
 
 if __name__ == "__main__":
