@@ -314,3 +314,52 @@ fn cli_compare_on_the_bundled_case_and_after_the_known_fix() {
         serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
     assert_eq!(v["comparisons"].as_array().unwrap().len(), 2);
 }
+
+/// Issue 22: spectral readings that cover only some sensors. Without `--control` the
+/// control is the sensor nearest a window among those with readings (not the window
+/// sensor without any, whose window options would all score MAE 0); naming a sensor
+/// without readings is refused with the ones that have them.
+#[test]
+fn spectral_control_is_a_sensor_with_readings() {
+    let dir = tempfile::tempdir().unwrap();
+    let src = repo().join("examples/calib-spectral");
+    for f in ["model.rad", "sensors.csv", "weather.wea"] {
+        std::fs::copy(src.join(f), dir.path().join(f)).unwrap();
+    }
+    let measured = std::fs::read_to_string(src.join("measured.csv")).unwrap();
+    let kept: String = measured
+        .lines()
+        .filter(|l| !l.contains(",control,"))
+        .map(|l| format!("{l}\n"))
+        .collect();
+    std::fs::write(dir.path().join("measured.csv"), kept).unwrap();
+    let run = |extra: &[&str]| {
+        rcalib()
+            .current_dir(dir.path())
+            .args(["spectral", "model.rad", "--sensors", "sensors.csv"])
+            .args(["--weather", "weather.wea", "--measured", "measured.csv"])
+            .args(["--cache"])
+            .arg(cache())
+            .args(extra)
+            .output()
+            .unwrap()
+    };
+    let out = run(&[]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(text.contains("at control sensor s01"), "{text}");
+    // Options differ in MAE (no tie of zeros).
+    assert!(!text.contains(" 0.0000e0 "), "{text}");
+    let out = run(&["--control", "control"]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(
+        err.contains("no spectral readings") && err.contains("s01, s03, s05, s09"),
+        "{err}"
+    );
+    assert_eq!(err.lines().count(), 1, "{err}");
+}

@@ -353,23 +353,52 @@ impl SpectralInputs {
         )
     }
 
-    /// Index of the control sensor `id` (default: the sensor nearest a window).
+    /// Index of the control sensor `id` (default: the sensor nearest a window among those
+    /// with spectral readings). A control without readings has nothing to compare: every
+    /// window option would score MAE 0 and the "best" would be arbitrary (issue 22), so it
+    /// is refused, naming the sensors that have readings.
     pub fn control(&self, id: Option<&str>) -> Result<usize> {
+        let mut with: Vec<usize> = self.bound.iter().map(|b| b.sensor).collect();
+        with.sort_unstable();
+        with.dedup();
+        let names = || {
+            with.iter()
+                .map(|&i| self.sensors[i].id.as_str())
+                .collect::<Vec<_>>()
+                .join(", ")
+        };
         match id {
-            Some(id) => self.sensors.iter().position(|s| s.id == id).ok_or_else(|| {
-                Error::Usage(format!(
-                    "--control '{id}': no such sensor id in the sensor file"
-                ))
-            }),
+            Some(id) => {
+                let i = self
+                    .sensors
+                    .iter()
+                    .position(|s| s.id == id)
+                    .ok_or_else(|| {
+                        Error::Usage(format!(
+                            "--control '{id}': no such sensor id in the sensor file"
+                        ))
+                    })?;
+                if with.binary_search(&i).is_err() {
+                    return Err(Error::Usage(format!(
+                        "--control '{id}': that sensor has no spectral readings; give one \
+                         that has: {}",
+                        names()
+                    )));
+                }
+                Ok(i)
+            }
             None => {
                 let room = super::room::Room::new(
                     &self.scene,
                     super::room::sensor_centroid(&self.sensors),
                     &[],
                 );
-                Ok((0..self.sensors.len())
+                with.iter()
+                    .copied()
                     .min_by(|a, b| self.depth(&room, *a).total_cmp(&self.depth(&room, *b)))
-                    .unwrap_or(0))
+                    .ok_or_else(|| {
+                        Error::Usage("no sensor has spectral readings to compare".into())
+                    })
             }
         }
     }
