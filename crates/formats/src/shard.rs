@@ -261,16 +261,8 @@ pub fn check_manifests_for(
             pieces.len()
         )));
     }
-    for ((mp, m), &(p, i, n)) in ms.iter().zip(pieces) {
-        if (i.shard, i.first, i.total) != (m.shard, m.first_row, m.total_rows) || m.rows != n {
-            return Err(Error::Mismatch(format!(
-                "{mp} describes shard {} ({}..{} of {}) but {p} is not that shard",
-                m.shard,
-                m.first_row,
-                m.first_row + m.rows,
-                m.total_rows
-            )));
-        }
+    for ((mp, m), (p, i, n)) in ms.iter().zip(pieces) {
+        m.check_piece(mp, p, i, *n)?;
     }
     Ok(())
 }
@@ -437,6 +429,23 @@ pub struct Manifest {
 }
 
 impl Manifest {
+    /// Check that piece `p` (its `SHARD=` line `info`, `rows` rows) is the shard this
+    /// manifest (file `mp`) describes.
+    pub fn check_piece(&self, mp: &str, p: &str, info: &ShardInfo, rows: usize) -> Result<()> {
+        if (info.shard, info.first, info.total) != (self.shard, self.first_row, self.total_rows)
+            || rows != self.rows
+        {
+            return Err(Error::Mismatch(format!(
+                "{mp} describes shard {} (rows {}..{} of {}) but {p} is not that shard",
+                self.shard,
+                self.first_row,
+                self.first_row + self.rows,
+                self.total_rows
+            )));
+        }
+        Ok(())
+    }
+
     /// Check that file `path` holds the output this manifest recorded (nothing to check
     /// when it recorded none).
     pub fn check_output(&self, path: &str) -> Result<()> {

@@ -550,17 +550,8 @@ impl Pipeline {
         let info = ShardInfo::of(&h, p)?
             .ok_or_else(|| Error::Mismatch(format!("{p}: no {SHARD_VAR}= line: not a shard")))?;
         let nrows = h.get_usize("NROWS", p)?;
-        if (info.shard, info.first, info.total) != (m.shard, m.first_row, m.total_rows)
-            || nrows != Some(m.rows)
-        {
-            return Err(Error::Mismatch(format!(
-                "{mp} describes shard {} (rows {}..{} of {}) but {p} is not that shard",
-                m.shard,
-                m.first_row,
-                m.first_row + m.rows,
-                m.total_rows
-            )));
-        }
+        // A header without NROWS cannot be the shard (usize::MAX matches no manifest).
+        m.check_piece(mp, p, &info, nrows.unwrap_or(usize::MAX))?;
         // Opening checks a binary shard's size against NROWS; the hash checks every byte.
         MatrixReader::open(p, &self.read)?;
         if m.output.is_none() {
