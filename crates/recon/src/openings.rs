@@ -173,7 +173,8 @@ impl Selection {
     }
 }
 
-fn in_polygon(poly: &[[f64; 2]], q: [f64; 2]) -> bool {
+/// Point in polygon by the crossing-number (even-odd) rule.
+pub(crate) fn in_polygon(poly: &[[f64; 2]], q: [f64; 2]) -> bool {
     let mut inside = false;
     let n = poly.len();
     for i in 0..n {

@@ -306,19 +306,11 @@ impl Views {
 /// Point in polygon, the polygon grown (or shrunk, `grow` < 0) by `grow` metres: inside, or
 /// within `grow` of an edge.
 fn in_polygon_grown(poly: &[[f64; 2]], q: [f64; 2], grow: f64) -> bool {
-    let mut inside = false;
-    let mut near = f64::INFINITY;
+    let inside = super::openings::in_polygon(poly, q);
     let n = poly.len();
-    for i in 0..n {
-        let (a, b) = (poly[i], poly[(i + 1) % n]);
-        if (a[1] > q[1]) != (b[1] > q[1]) {
-            let x = a[0] + (q[1] - a[1]) * (b[0] - a[0]) / (b[1] - a[1]);
-            if q[0] < x {
-                inside = !inside;
-            }
-        }
-        near = near.min(segment_distance(a, b, q));
-    }
+    let near = (0..n)
+        .map(|i| segment_distance(poly[i], poly[(i + 1) % n], q))
+        .fold(f64::INFINITY, f64::min);
     if grow >= 0.0 {
         inside || near <= grow
     } else {
