@@ -71,19 +71,18 @@ pub fn build(
             ..*b
         })
         .collect();
-    let mut skies = step_skies_with(weather, &idx, opts.settings.mf, StepSkyModel::Gendaymtx);
     let simulator = Simulator::new(
         opts.settings.clone(),
         opts.cache.clone(),
         &sensors,
         subset_wea(weather, &idx),
-        &skies,
     )?
     .with_progress(opts.progress.clone());
-    if opts.sky == StepSkyModel::Gendaylit {
-        let seen = simulator.seen_sky(scene)?;
-        skies = step_skies_seen(weather, &idx, opts.settings.mf, &seen);
-    }
+    let mf = opts.settings.mf;
+    let skies = match opts.sky {
+        StepSkyModel::Gendaylit => step_skies_seen(weather, &idx, mf, &simulator.seen_sky(scene)?),
+        StepSkyModel::Gendaymtx => step_skies_with(weather, &idx, mf, StepSkyModel::Gendaymtx),
+    };
     let dcs = simulator.dcs(scene)?;
     let room = Room::new(scene, sensor_centroid(&sensors), &opts.classes);
     Model::build(

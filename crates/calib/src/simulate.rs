@@ -512,10 +512,9 @@ impl Simulator {
         cache: Option<PathBuf>,
         sensors: &[Sensor],
         suns_wea: String,
-        skies: &[StepSky],
     ) -> Result<Simulator> {
-        let nsteps = skies.len();
         let suns = Weather::parse(&suns_wea, "steps.wea")?;
+        let nsteps = suns.steps.len();
         let sensors_text: String = sensors
             .iter()
             .map(|s| format!("{:?} {:?}\n", s.ray.org, s.ray.dir))

@@ -127,7 +127,6 @@ pub fn simulate_scene(
         opts.cache.clone(),
         sensors,
         subset_wea(weather, &idx),
-        &skies,
     )?
     .with_progress(opts.progress.clone());
     let sim = simulate(&simulator, scene, &skies, sensors.len(), ch)?;
@@ -266,6 +265,33 @@ impl SpectralModel {
     }
 }
 
+/// The photopic companion of spectral model `sm` (its readings' photopic values at
+/// `bound`): the photopic effects fitted on the same readings. The spectral simulation's
+/// skies are gendaymtx's (per band, as rspecsky makes them), so this model sees the same
+/// sky, whatever `opts.sky` says.
+pub fn photopic_model(
+    scene: &Scene,
+    sensors: &[Sensor],
+    weather: &Weather,
+    bound: &[Bound],
+    sm: &SpectralModel,
+    opts: &Options,
+) -> Result<super::model::Model> {
+    let readings: Vec<Bound> = bound
+        .iter()
+        .zip(&sm.obs)
+        .map(|(b, o)| Bound {
+            value: o.value,
+            ..*b
+        })
+        .collect();
+    let opts = Options {
+        sky: super::simulate::StepSkyModel::Gendaymtx,
+        ..opts.clone()
+    };
+    super::session::build(scene, sensors.to_vec(), weather, &readings, &opts)
+}
+
 /// Everything `rcalib spectral` reads from files.
 pub struct SpectralInputs {
     pub scene: Scene,
@@ -330,26 +356,13 @@ impl SpectralInputs {
 
     /// The photopic model on the readings' photopic values (from `sm`).
     pub fn photopic(&self, sm: &SpectralModel, opts: &Options) -> Result<super::model::Model> {
-        let readings: Vec<Bound> = self
-            .bound
-            .iter()
-            .zip(&sm.obs)
-            .map(|(b, o)| Bound {
-                value: o.value,
-                ..*b
-            })
-            .collect();
-        super::session::build(
+        photopic_model(
             &self.scene,
-            self.sensors.clone(),
+            &self.sensors,
             &self.weather,
-            &readings,
-            // The spectral simulation's skies are gendaymtx's (per band, as rspecsky
-            // makes them); its photopic companion must see the same sky.
-            &Options {
-                sky: super::simulate::StepSkyModel::Gendaymtx,
-                ..opts.clone()
-            },
+            &self.bound,
+            sm,
+            opts,
         )
     }
 

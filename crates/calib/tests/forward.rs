@@ -112,13 +112,11 @@ fn per_step_table_within_the_known_bound() {
             mf,
             ..Settings::truth()
         };
-        let skies = step_skies_with(&w, &idx, mf, StepSkyModel::Gendaymtx);
         let sim = Simulator::new(
             settings,
             Some(cache.path().to_path_buf()),
             &sensors,
             subset_wea(&w, &idx),
-            &skies,
         )
         .unwrap();
         let d = sim.dcs(&scene).unwrap();

@@ -186,26 +186,13 @@ impl SpectralCase {
         sm: &SpectralModel,
         opts: &Options,
     ) -> Result<crate::model::Model> {
-        let readings: Vec<Bound> = self
-            .bound
-            .iter()
-            .zip(&sm.obs)
-            .map(|(b, o)| Bound {
-                value: o.value,
-                ..*b
-            })
-            .collect();
-        crate::session::build(
+        super::photopic_model(
             &scene_of(text)?,
-            self.sensors.clone(),
+            &self.sensors,
             &self.weather,
-            &readings,
-            // The spectral simulation's skies are gendaymtx's (per band, as rspecsky
-            // makes them); its photopic companion must see the same sky.
-            &Options {
-                sky: crate::simulate::StepSkyModel::Gendaymtx,
-                ..opts.clone()
-            },
+            &self.bound,
+            sm,
+            opts,
         )
     }
 }
