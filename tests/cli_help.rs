@@ -86,6 +86,19 @@ fn help_and_version_everywhere() {
                     stdout.contains("Usage:") || stdout.contains("usage:"),
                     "{shown}: {stdout}"
                 );
+                // A tool's help names its subcommands (rspecsky's did not list genssky).
+                if path.is_empty() {
+                    for (t, p) in invocations() {
+                        if t == tool && p.len() == 1 {
+                            assert!(
+                                stdout.contains(&format!("{tool} {}", p[0]))
+                                    || stdout.contains(&format!("  {}", p[0])),
+                                "{shown} does not name its subcommand {}",
+                                p[0]
+                            );
+                        }
+                    }
+                }
             }
         }
     }

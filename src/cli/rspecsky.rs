@@ -47,7 +47,8 @@ Examples:
     rspecsky genssky 3 2 15.25 -a 42 -o 108 -m 110 -c 0.5 > sky.rad
     oconv sky.rad room.rad > room.oct";
 
-/// Perez all-weather sky matrices (gendaymtx) and point-in-time skies (gendaylit).
+/// Perez all-weather sky matrices (gendaymtx), point-in-time skies (gendaylit) and
+/// physically based spectral skies (gensdaymtx with --model atmosphere; genssky).
 ///
 /// Matrix mode: `rspecsky [options] weather.wea|weather.epw > sky.smx`. Rows are the ground
 /// (row 0) and the Tregenza/Reinhart patches in gendaymtx's order, columns the time steps,
@@ -60,8 +61,17 @@ Examples:
 /// -m meridian] > sky.rad` writes gendaylit's description (sun, perezlum.cal sky) plus the
 /// sky and ground glow sources, ready for oconv/rtrace. Here -m, -o and -a are gendaylit's
 /// meridian, longitude and latitude (degrees, west positive).
+///
+/// Spectral point-in-time mode: `rspecsky genssky month day hour [options] > sky.rad` is
+/// Radiance 6's genssky with the same options (`rspecsky genssky --help` lists them).
 #[derive(Parser, Debug)]
-#[command(name = "rspecsky", version, disable_help_flag = true, after_help = EXAMPLES)]
+#[command(
+    name = "rspecsky",
+    version,
+    disable_help_flag = true,
+    after_help = EXAMPLES,
+    override_usage = "rspecsky [OPTIONS] [WEATHER]\n       rspecsky --at \"MONTH DAY HOUR\" [OPTIONS] [WEATHER]\n       rspecsky genssky MONTH DAY HOUR [OPTIONS]"
+)]
 pub struct Options {
     /// Reinhart multiplication factor MF (gendaymtx -m; default 1 = Tregenza's 145 patches
     /// + ground). With --at: standard meridian in degrees west (gendaylit -m).

@@ -46,6 +46,8 @@ pub struct Comparison {
     pub scatter: Vec<(f64, f64, usize, usize)>,
     /// Window outlines in plan: (x0, y0, x1, y1).
     pub windows: Vec<[f64; 4]>,
+    /// The floor's outline in plan, one (x0, y0, x1, y1) per edge.
+    pub outline: Vec<[f64; 4]>,
 }
 
 /// Compare simulated readings `sim` (in observation order) with the measured ones.
@@ -114,5 +116,6 @@ pub fn compare(m: &Model, sim: &[f64], label: &str) -> Comparison {
             .map(|(o, y)| (o.value, *y, o.sensor, o.step))
             .collect(),
         windows,
+        outline: m.room.outline.clone(),
     }
 }

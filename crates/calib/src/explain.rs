@@ -41,6 +41,8 @@ pub struct Candidate {
     pub effect: Effect,
     /// `NAME:params` for `rcalib apply`.
     pub spec: String,
+    /// The spec's parameters with names and units.
+    pub params: String,
     pub description: String,
     pub parameter: String,
     pub value: f64,
@@ -64,6 +66,10 @@ pub struct Explanation {
     pub selected: Vec<Candidate>,
     pub final_stats: Stats,
     pub final_score: Score,
+    /// The readings predicted with the selected effects (`final_stats` are theirs; after
+    /// [`refine`], corrected towards the re-simulation), in observation order.
+    #[serde(skip)]
+    pub final_sim: Vec<f64>,
     /// The selected effects as `--effect` arguments.
     pub specs: Vec<String>,
     /// The families that were considered.
@@ -135,8 +141,11 @@ fn evidence(m: &Model, before: &[f64], after: &[f64], ids: &[String]) -> String 
     let total_a: f64 = a.iter().sum();
     let share = |x: f64, y: f64| if x > 0.0 { 100.0 * (1.0 - y / x) } else { 0.0 };
     let broad = gains.iter().filter(|g| g.1 > 0.3).count();
+    // Only sensors the effect improves are named (an effect confined to two sensors must
+    // not list a third whose error did not move).
     let top: Vec<String> = gains
         .iter()
+        .filter(|g| g.1 > 0.01)
         .take(3)
         .map(|(s, g)| {
             format!(
@@ -153,7 +162,11 @@ fn evidence(m: &Model, before: &[f64], after: &[f64], ids: &[String]) -> String 
         -share(dif_b, dif_a),
         broad,
         ns,
-        top.join(", ")
+        if top.is_empty() {
+            "none".to_string()
+        } else {
+            top.join(", ")
+        }
     )
 }
 
@@ -177,6 +190,7 @@ fn candidate(
     Candidate {
         family: e.family().to_string(),
         spec: e.spec(ids, windows),
+        params: e.named_params(ids, windows),
         description: e.describe(ids, windows),
         parameter: parameter.to_string(),
         value,
@@ -219,6 +233,7 @@ pub fn explain(m: &Model, families: &[&str], sigma_sensor: f64) -> Explanation {
     for (c, e) in selected.iter_mut().zip(&chosen) {
         c.effect = e.clone();
         c.spec = e.spec(&ids, &windows);
+        c.params = e.named_params(&ids, &windows);
         c.description = e.describe(&ids, &windows);
         let (p, v) = e.primary();
         c.parameter = p.to_string();
@@ -246,6 +261,7 @@ pub fn explain(m: &Model, families: &[&str], sigma_sensor: f64) -> Explanation {
         selected,
         final_stats,
         final_score,
+        final_sim: cur_sim,
         verdict,
     }
 }
@@ -409,6 +425,7 @@ pub fn refine(m: &Model, ex: &Explanation, exact: &[f64], sigma_sensor: f64) -> 
     for (i, (c, e)) in out.selected.iter_mut().zip(&chosen).enumerate() {
         c.effect = e.clone();
         c.spec = e.spec(&ids, &windows);
+        c.params = e.named_params(&ids, &windows);
         c.description = e.describe(&ids, &windows);
         let (p, v) = e.primary();
         c.parameter = p.to_string();
@@ -418,6 +435,7 @@ pub fn refine(m: &Model, ex: &Explanation, exact: &[f64], sigma_sensor: f64) -> 
     let sim = f.predict(&chosen);
     out.final_score = f.score_sim(&sim);
     out.final_stats = stats_of(m, &sim);
+    out.final_sim = sim;
     out.specs = out.selected.iter().map(|c| c.spec.clone()).collect();
     out.verdict = verdict(
         &out.selected,

@@ -119,6 +119,10 @@ pub(crate) use rdaylight_base::vec3::{dot, sub};
 #[derive(Debug, Clone, PartialEq)]
 pub struct Room {
     pub windows: Vec<Window>,
+    /// The floor's outline in plan, (x0, y0, x1, y1) per edge: the boundary edges of the
+    /// polygons of the floor class (or, without one, of the lowest horizontal polygons under
+    /// the sensors), for the reports' plans.
+    pub outline: Vec<[f64; 4]>,
     /// (material id, class) of every classified opaque material.
     pub materials: Vec<(String, SurfaceClass)>,
     /// Mean transmissivity and refractive index of the windows' glass (0.96, 1.52 if none).
@@ -221,8 +225,10 @@ impl Room {
                 }
             }
         }
+        let outline = floor_outline(scene, inside, &materials);
         Room {
             windows,
+            outline,
             materials,
             glass_tn,
             glass_index,
@@ -244,6 +250,96 @@ impl Room {
             .map(|w| w.depth_of(p).abs())
             .fold(f64::INFINITY, f64::min)
     }
+}
+
+/// The plan outline of the floor: edges used by exactly one floor polygon (edges shared by
+/// two pieces of a tiled floor are inside it). Floor polygons are those whose material is of
+/// the floor class; a model without one falls back to the horizontal polygons at the lowest
+/// height below `inside` whose plan bounds contain it.
+fn floor_outline(
+    scene: &Scene,
+    inside: [f64; 3],
+    materials: &[(String, SurfaceClass)],
+) -> Vec<[f64; 4]> {
+    let polys: Vec<&Vec<[f64; 3]>> = scene
+        .surfaces()
+        .filter_map(|(i, o)| match &o.kind {
+            Primitive::Polygon { vertices } if vertices.len() >= 3 => Some((i, vertices)),
+            _ => None,
+        })
+        .filter(|(_, v)| {
+            let z0 = v[0][2];
+            v.iter().all(|p| (p[2] - z0).abs() < 1e-3)
+        })
+        .filter(|(i, _)| {
+            scene.material_of(*i).is_some_and(|m| {
+                materials
+                    .iter()
+                    .any(|(id, c)| *c == SurfaceClass::Floor && *id == scene.objects[m].id)
+            })
+        })
+        .map(|(_, v)| v)
+        .collect();
+    let polys = if polys.is_empty() {
+        let flat: Vec<&Vec<[f64; 3]>> = scene
+            .surfaces()
+            .filter_map(|(_, o)| match &o.kind {
+                Primitive::Polygon { vertices } if vertices.len() >= 3 => Some(vertices),
+                _ => None,
+            })
+            .filter(|v| {
+                let z0 = v[0][2];
+                z0 < inside[2]
+                    && v.iter().all(|p| (p[2] - z0).abs() < 1e-3)
+                    && v.iter().any(|p| p[0] <= inside[0])
+                    && v.iter().any(|p| p[0] >= inside[0])
+                    && v.iter().any(|p| p[1] <= inside[1])
+                    && v.iter().any(|p| p[1] >= inside[1])
+            })
+            .collect();
+        let low = flat.iter().map(|v| v[0][2]).fold(f64::INFINITY, f64::min);
+        flat.into_iter()
+            .filter(|v| (v[0][2] - low).abs() < 0.01)
+            .collect()
+    } else {
+        polys
+    };
+    // Edges keyed by their end points to the millimetre, either direction.
+    type Point = (i64, i64);
+    let key = |a: [f64; 3]| -> Point {
+        (
+            (a[0] * 1000.0).round() as i64,
+            (a[1] * 1000.0).round() as i64,
+        )
+    };
+    let mut count: std::collections::HashMap<(Point, Point), (usize, [f64; 4])> =
+        std::collections::HashMap::new();
+    for v in polys {
+        for k in 0..v.len() {
+            let (a, b) = (v[k], v[(k + 1) % v.len()]);
+            let (ka, kb) = (key(a), key(b));
+            if ka == kb {
+                continue;
+            }
+            let e = count
+                .entry((ka.min(kb), ka.max(kb)))
+                .or_insert((0, [a[0], a[1], b[0], b[1]]));
+            e.0 += 1;
+        }
+    }
+    let mut edges: Vec<[f64; 4]> = count
+        .into_values()
+        .filter(|(n, _)| *n == 1)
+        .map(|(_, e)| e)
+        .collect();
+    // HashMap order is not stable; the reports are.
+    edges.sort_by(|a, b| {
+        a.iter()
+            .zip(b)
+            .map(|(x, y)| x.total_cmp(y))
+            .fold(std::cmp::Ordering::Equal, |o, c| o.then(c))
+    });
+    edges
 }
 
 /// A copy of `scene` with the diffuse colour of every material of `class` times `k`
@@ -279,4 +375,43 @@ pub fn scaled_scene(
         }
     }
     s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn scene(text: &str) -> Scene {
+        crate::scene::parse_str(
+            text,
+            "t.rad",
+            std::path::Path::new(""),
+            &crate::scene::LoadOptions::default(),
+        )
+        .unwrap()
+    }
+
+    /// A 2 x 1 m floor in two tiles: the shared edge is inside, so the outline is the six
+    /// unit edges of the rectangle's boundary; a table top above it is not floor.
+    #[test]
+    fn floor_outline_is_the_boundary_of_the_floor_tiles() {
+        let floor = "void plastic floor_mat 0 0 5 .3 .3 .3 0 0\n\
+                     void plastic table_mat 0 0 5 .5 .5 .5 0 0\n\
+                     floor_mat polygon f1 0 0 12 0 0 0 1 0 0 1 1 0 0 1 0\n\
+                     floor_mat polygon f2 0 0 12 1 0 0 2 0 0 2 1 0 1 1 0\n\
+                     table_mat polygon top 0 0 12 .2 .2 .7 .8 .2 .7 .8 .8 .7 .2 .8 .7\n";
+        let room = Room::new(&scene(floor), [1.0, 0.5, 0.8], &[]);
+        assert_eq!(room.outline.len(), 6, "{:?}", room.outline);
+        let perimeter: f64 = room
+            .outline
+            .iter()
+            .map(|e| ((e[2] - e[0]).powi(2) + (e[3] - e[1]).powi(2)).sqrt())
+            .sum();
+        assert!((perimeter - 6.0).abs() < 1e-9);
+        assert!(room.outline.iter().all(|e| e[0] != 1.0 || e[2] != 1.0));
+        // Without a floor-class material: the lowest horizontal polygons under the sensors.
+        let unnamed = floor.replace("floor_mat", "grey_mat");
+        let room = Room::new(&scene(&unnamed), [1.0, 0.5, 0.8], &[]);
+        assert_eq!(room.outline.len(), 6, "{:?}", room.outline);
+    }
 }

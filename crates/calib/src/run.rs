@@ -292,12 +292,7 @@ pub fn explain_run(x: &Explain, out: &mut dyn Write) -> Result<()> {
         write_effects(p, &ex.specs)?;
     }
     let c = compare(&m, &m.predict(&[]), &x.files.scene.join(" "));
-    let effects: Vec<Effect> = ex.selected.iter().map(|c| c.effect.clone()).collect();
-    let c2 = compare(
-        &m,
-        &m.predict(&effects),
-        "with the selected effects (coefficient model)",
-    );
+    let c2 = compare(&m, &ex.final_sim, "with the selected effects (predicted)");
     write_reports(&[&c, &c2], Some(&ex), &x.reports)
 }
 

@@ -24,6 +24,9 @@ pub struct Plot {
     pub diagonal: bool,
     /// Draw y = 0.
     pub zero_line: bool,
+    /// Points the axes must include without being drawn: the other comparisons' points,
+    /// so that before and after figures share their axes.
+    pub frame: Vec<(f64, f64)>,
 }
 
 const W: f64 = 420.0;
@@ -99,7 +102,12 @@ fn range(vals: impl Iterator<Item = f64>, log: bool) -> (f64, f64) {
 impl Plot {
     /// The plot as an `<svg>` element.
     pub fn render(&self, series: &[Series]) -> String {
-        let all = || series.iter().flat_map(|s| s.points.iter());
+        let all = || {
+            series
+                .iter()
+                .flat_map(|s| s.points.iter())
+                .chain(self.frame.iter())
+        };
         let (mut x0, mut x1) = range(all().map(|p| p.0), self.logx);
         let (mut y0, mut y1) = range(all().map(|p| p.1), self.logy);
         if self.diagonal {
@@ -240,7 +248,8 @@ pub fn diverging(pct: f64) -> String {
 }
 
 /// A floor plan: `segments` (walls/windows, drawn as lines with a colour) and `markers`
-/// (x, y, colour, label) in plan coordinates.
+/// (x, y, colour, label) in plan coordinates (x east, y north: Radiance's convention),
+/// with a north arrow and a scale bar.
 pub fn plan(
     title: &str,
     segments: &[([f64; 2], [f64; 2], &str)],
@@ -286,6 +295,29 @@ pub fn plan(
             esc(label)
         );
     }
+    // North arrow (+y is north in Radiance scenes) in the top right corner.
+    let (ax, ay) = (W - 18.0, 32.0);
+    s += &format!(
+        "<path d=\"M{ax} {ay} l-6 16 l6 -4 l6 4 z\" fill=\"#333\"/>\
+         <text x=\"{ax}\" y=\"{}\" text-anchor=\"middle\" font-size=\"11\">N</text>\n",
+        ay + 28.0
+    );
+    // Scale bar: the largest of 1, 2, 5, 10 ... m that fits in a quarter of the width.
+    let mut len = 1.0_f64;
+    for l in [0.5, 1.0, 2.0, 5.0, 10.0, 20.0, 50.0] {
+        if l * scale <= W / 4.0 {
+            len = l;
+        }
+    }
+    let (bx, by) = (20.0, H - 8.0);
+    s += &format!(
+        "<path d=\"M{bx} {} v4 h{:.1} v-4\" fill=\"none\" stroke=\"#333\"/>\
+         <text x=\"{:.1}\" y=\"{}\" font-size=\"10\">{len} m</text>\n",
+        by - 4.0,
+        len * scale,
+        bx + len * scale + 4.0,
+        by
+    );
     s + "</svg>\n"
 }
 
@@ -305,6 +337,7 @@ mod tests {
             logy: true,
             diagonal: true,
             zero_line: false,
+            frame: Vec::new(),
         }
         .render(&[Series {
             points: vec![(10.0, 12.0), (100.0, 90.0), (-1.0, 5.0)],
@@ -318,5 +351,46 @@ mod tests {
             2,
             "non-positive points dropped on log axes"
         );
+    }
+
+    /// Frame points widen the axes without being drawn (before/after share axes).
+    #[test]
+    fn frame_points_set_the_axes_only() {
+        let plot = |frame: Vec<(f64, f64)>| {
+            Plot {
+                title: "t".into(),
+                xlabel: "x".into(),
+                ylabel: "y".into(),
+                logx: false,
+                logy: false,
+                diagonal: false,
+                zero_line: false,
+                frame,
+            }
+            .render(&[Series {
+                points: vec![(1.0, 1.0), (2.0, 2.0)],
+                color: "red".into(),
+                line: false,
+                label: String::new(),
+            }])
+        };
+        let (plain, framed) = (plot(Vec::new()), plot(vec![(0.0, 40.0)]));
+        assert_eq!(plain.matches("<circle").count(), 2);
+        assert_eq!(framed.matches("<circle").count(), 2);
+        assert!(
+            !plain.contains(">40<") && framed.contains(">40<"),
+            "{framed}"
+        );
+    }
+
+    #[test]
+    fn plans_have_a_north_arrow_and_a_scale_bar() {
+        let svg = plan(
+            "p",
+            &[([0.0, 0.0], [4.0, 0.0], "#999")],
+            &[(1.0, 1.0, "red".into(), "s1".into())],
+        );
+        assert!(svg.contains(">N</text>"));
+        assert!(svg.contains(" m</text>"));
     }
 }

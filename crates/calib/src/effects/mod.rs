@@ -187,6 +187,46 @@ impl Effect {
         }
     }
 
+    /// The parameters of [`Effect::spec`] with their names and units, in the spec's order
+    /// (the reports print them beside the spec, which carries numbers only).
+    pub fn named_params(&self, sensor_ids: &[String], window_ids: &[String]) -> String {
+        let sid = |i: &usize| sensor_ids.get(*i).cloned().unwrap_or_else(|| i.to_string());
+        match self {
+            Effect::Transmittance { scale } => format!("scale = {scale:.3}"),
+            Effect::Obstruction {
+                azimuth,
+                half_width,
+                altitude,
+            } => format!(
+                "azimuth = {azimuth:.1} deg E of N, half width = {half_width:.1} deg, \
+                 altitude = {altitude:.1} deg"
+            ),
+            Effect::Reflectance { scale, .. } => format!("scale = {scale:.3}"),
+            Effect::Overhang {
+                window,
+                depth,
+                above,
+            } => format!(
+                "depth = {depth:.2} m, window = {}, above head = {above:.2} m",
+                window_ids.get(*window).cloned().unwrap_or_default()
+            ),
+            Effect::LocalObstruction { sensors, fraction } => format!(
+                "fraction blocked = {fraction:.2}, sensors = {}",
+                sensors.iter().map(sid).collect::<Vec<_>>().join(", ")
+            ),
+            Effect::SensorFault { factors } => factors
+                .iter()
+                .map(|(s, f)| format!("factor({}) = {f:.3}", sid(s)))
+                .collect::<Vec<_>>()
+                .join(", "),
+            Effect::Tint {
+                scale,
+                slope,
+                curvature,
+            } => format!("scale = {scale:.3}, slope = {slope:.3}, curvature = {curvature:.3}"),
+        }
+    }
+
     /// Parse `NAME:params` (see [`Effect::spec`]); scales at most [`MAX_SCALE`].
     pub fn parse(spec: &str, sensor_ids: &[String], window_ids: &[String]) -> Result<Effect> {
         let (name, params) = spec.split_once(':').unwrap_or((spec, ""));

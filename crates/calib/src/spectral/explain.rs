@@ -175,6 +175,7 @@ fn tint_candidate(
     Candidate {
         family: "tint".into(),
         spec: e.spec(ids, windows),
+        params: e.named_params(ids, windows),
         description: e.describe(ids, windows),
         parameter: "scale".into(),
         value: e.primary().1,
@@ -281,6 +282,7 @@ pub fn explain(
                 curvature: shape.curvature,
             };
             c.spec = e.spec(&ids, &windows);
+            c.params = e.named_params(&ids, &windows);
             c.description = e.describe(&ids, &windows);
             c.value = scale;
             c.effect = e;

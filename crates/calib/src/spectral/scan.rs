@@ -255,7 +255,7 @@ pub fn text(s: &SpectralScan) -> String {
         }
     }
     out.push_str(&format!(
-        "selected {} (x{:.3}); apply with --effect {}\n",
+        "lowest MAE of the scan: {} (x{:.3}, --effect {})\n",
         s.options[s.best].name, s.options[s.best].factor, s.effect
     ));
     out
