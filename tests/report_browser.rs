@@ -52,8 +52,10 @@ fn browse(bin: &Path, profile: &Path, extra: &[String], url: &str) -> (String, S
     .args(extra)
     .arg(url)
     .stdin(Stdio::null())
-    .stdout(Stdio::piped())
-    .stderr(Stdio::piped());
+    // Files, not pipes: a DOM larger than a pipe's buffer would block chromium while this
+    // loop waits for it to exit.
+    .stdout(std::fs::File::create(profile.with_extension("out")).expect("stdout file"))
+    .stderr(std::fs::File::create(profile.with_extension("err")).expect("stderr file"));
     let mut child = cmd.spawn().expect("start chromium");
     let start = Instant::now();
     loop {
@@ -66,11 +68,10 @@ fn browse(bin: &Path, profile: &Path, extra: &[String], url: &str) -> (String, S
         }
         std::thread::sleep(Duration::from_millis(100));
     }
-    let out = child.wait_with_output().expect("chromium output");
-    (
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
+    let read = |ext| {
+        String::from_utf8_lossy(&std::fs::read(profile.with_extension(ext)).unwrap()).into_owned()
+    };
+    (read("out"), read("err"))
 }
 
 /// Console errors and uncaught exceptions as chromium logs them with --enable-logging.
@@ -238,9 +239,10 @@ fn report_opens_in_a_headless_browser() {
     let shot = art.join("report_browser.png");
     let _ = std::fs::remove_file(&shot);
     let url = format!("file://{}", html.display());
+    // A fresh profile: chromium's crash handler may still hold the first one.
     let (_, err) = browse(
         &bin,
-        &profile,
+        &d.path().join("profile2"),
         &[format!("--screenshot={}", shot.display())],
         &url,
     );
