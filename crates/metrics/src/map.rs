@@ -702,7 +702,7 @@ mod tests {
         // SVG: text is text, the title is there.
         let svg = plot::to_svg(&fig).unwrap();
         assert!(
-            svg.starts_with("<svg") && svg.contains(">N<"),
+            svg.starts_with("<svg") && svg.contains("<text") && svg.contains("window (glazing)"),
             "{}",
             &svg[..200]
         );
