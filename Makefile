@@ -19,7 +19,7 @@ ROOM     := examples/room
 EPW      := examples/weather/GBR_London.Gatwick.037760_IWEC.epw
 FIX      := radiance-fixtures
 
-.PHONY: all example radiance-example build test radiance fixtures clean install uninstall docs
+.PHONY: all example radiance-example build test radiance browser fixtures clean install uninstall docs
 
 all: example
 
@@ -38,24 +38,53 @@ RDC_OPTS ?= -ab 5 -ad 10000 -lw 1e-5 -s 1
 SENSORS  := $(ROOM)/sensors.pts
 MAPS     := TAI_klxh DA UDI_a sDA ASE
 
+# The commands of the main job, run as written here and listed as written in the report.
+CMD_DC     = $(BIN)/rdc -I $(RDC_OPTS) -m 1 -faf $(ROOM)/room.rad $(ROOM)/skydome.rad < $(SENSORS) > $(OUT)/dc.mtx
+CMD_SUN    = $(BIN)/rdc -I --suns 6 -ad 1 -faf $(ROOM)/room.rad $(ROOM)/skydome.rad < $(SENSORS) > $(OUT)/sun.mtx
+CMD_SKY    = $(BIN)/rspecsky -m 1 -of $(EPW) > $(OUT)/sky.smx
+CMD_SUNSKY = $(BIN)/rspecsky -m 6 -5 0.533 -d -of $(EPW) > $(OUT)/sky_sun.smx
+CMD_ILL    = $(BIN)/rmtx -ff -c 47.4 119.9 11.6 $(OUT)/dc.mtx $(OUT)/sky.smx > $(OUT)/illuminance.mtx
+CMD_DIRECT = $(BIN)/rmtx -ff -c 47.4 119.9 11.6 $(OUT)/sun.mtx $(OUT)/sky_sun.smx > $(OUT)/direct_sun.mtx
+CMD_METRICS = $(BIN)/rmetrics -w $(EPW) --pts $(SENSORS) --direct-sun $(OUT)/direct_sun.mtx \
+    --json $(OUT)/metrics.json -o $(OUT)/metrics.tsv $(OUT)/illuminance.mtx
+# Figures: every map on its metric's fixed scale with the room outline from the scene.
+FIG_OPTS := -w $(EPW) --pts $(SENSORS) --direct-sun $(OUT)/direct_sun.mtx --scene $(ROOM)/room.rad
+
 example: build
 	@mkdir -p $(OUT)
 	$(BIN)/rinfo $(ROOM)/room.rad $(SENSORS) $(EPW)
-	$(BIN)/rdc -I $(RDC_OPTS) -m 1 -faf $(ROOM)/room.rad $(ROOM)/skydome.rad < $(SENSORS) > $(OUT)/dc.mtx
-	$(BIN)/rdc -I --suns 6 -ad 1 -faf $(ROOM)/room.rad $(ROOM)/skydome.rad < $(SENSORS) > $(OUT)/sun.mtx
-	$(BIN)/rspecsky -m 1 -of $(EPW) > $(OUT)/sky.smx
-	$(BIN)/rspecsky -m 6 -5 0.533 -d -of $(EPW) > $(OUT)/sky_sun.smx
-	$(BIN)/rmtx -ff -c 47.4 119.9 11.6 $(OUT)/dc.mtx $(OUT)/sky.smx > $(OUT)/illuminance.mtx
-	$(BIN)/rmtx -ff -c 47.4 119.9 11.6 $(OUT)/sun.mtx $(OUT)/sky_sun.smx > $(OUT)/direct_sun.mtx
+	$(CMD_DC)
+	$(CMD_SUN)
+	$(CMD_SKY)
+	$(CMD_SUNSKY)
+	$(CMD_ILL)
+	$(CMD_DIRECT)
 	@rm -f $(OUT)/sky_sun.smx
-	$(BIN)/rmetrics -w $(EPW) --pts $(SENSORS) --direct-sun $(OUT)/direct_sun.mtx \
-	    --json $(OUT)/metrics.json -o $(OUT)/metrics.tsv $(OUT)/illuminance.mtx
+	$(CMD_METRICS)
 	@for m in $(MAPS); do \
-	    $(BIN)/rmetrics -w $(EPW) --pts $(SENSORS) --direct-sun $(OUT)/direct_sun.mtx \
-	        --map $$m --png $(OUT)/$$m.png $(OUT)/illuminance.mtx > /dev/null || exit 1; done
-	@echo "Room means (occupied 8-18 h, every day), also in $(OUT)/metrics.tsv and .json:"
-	@grep -v '^#' $(OUT)/metrics.tsv | head -n 1; grep '^room' $(OUT)/metrics.tsv
-	@echo "Maps: $(foreach m,$(MAPS),$(OUT)/$(m).png)"
+	    $(BIN)/rmetrics $(FIG_OPTS) --map $$m --png $(OUT)/$$m.png $(OUT)/illuminance.mtx > /dev/null || exit 1; done
+	$(BIN)/rmetrics $(FIG_OPTS) --map DA --cdf $(OUT)/DA_cdf.png --temporal $(OUT)/illuminance_year.png \
+	    $(OUT)/illuminance.mtx > /dev/null
+	$(BIN)/rmetrics report $(FIG_OPTS) -o $(OUT)/report.html --title "Annual daylight study: example room, London Gatwick" \
+	    --setting "rdc, sky patches=$(RDC_OPTS) -m 1 (Reinhart MF 1: 146 patches)" \
+	    --setting "rdc, suns=--suns 6 -ad 1 (suns at the 5186 Reinhart MF 6 patch centres, direct only)" \
+	    --setting "sky model=Perez all-weather sky matrix (rspecsky -m 1, gendaymtx counterpart); sun-only matrix rspecsky -m 6 -5 0.533 -d" \
+	    --setting "illuminance=rmtx -c 47.4 119.9 11.6 (Radiance photopic weights x 179 lm/W)" \
+	    --input $(ROOM)/skydome.rad --input $(OUT)/dc.mtx --input $(OUT)/sun.mtx --input $(OUT)/sky.smx \
+	    $(foreach t,rdc rspecsky rmtx rmetrics,--tool "$$($(BIN)/$(t) --version)") \
+	    --command '$(CMD_DC)' --command '$(CMD_SUN)' --command '$(CMD_SKY)' --command '$(CMD_SUNSKY)' \
+	    --command '$(CMD_ILL)' --command '$(CMD_DIRECT)' --command '$(subst \,,$(CMD_METRICS))' \
+	    $(OUT)/illuminance.mtx
+	@awk -F'\t' '/^sensor/ {for (i = 1; i <= NF; i++) c[$$i] = i} /^room/ { \
+	    printf "Room (occupied 8-18 h, every day; per sensor in $(OUT)/metrics.tsv and .json):\n"; \
+	    printf "  TAI   %8.0f klx.h   mean over sensors (seed Eq. 2.2)\n", $$c["TAI_klxh"]; \
+	    printf "  UDI   %5.1f / %.1f / %.1f / %.1f %%   n / s / a / e, mean share of occupied hours\n", $$c["UDI_n"], $$c["UDI_s"], $$c["UDI_a"], $$c["UDI_e"]; \
+	    printf "  DA    %8.1f %%   mean share of occupied hours with E >= 300 lx\n", $$c["DA"]; \
+	    printf "  sDA   %8.1f %%   of sensors with DA >= 50 %% (a share of sensors, not a mean)\n", $$c["sDA"]; \
+	    if ("ASE" in c) printf "  ASE   %8.1f %%   of sensors with direct sun > 1000 lx for > 250 h (a share of sensors)\n", $$c["ASE"]}' \
+	    $(OUT)/metrics.tsv
+	@echo "Maps: $(foreach m,$(MAPS),$(OUT)/$(m).png); year: $(OUT)/illuminance_year.png; DA over the floor: $(OUT)/DA_cdf.png"
+	@echo "Report: $(OUT)/report.html"
 
 # The same study with real Radiance (pyradiance): rcontrib daylight coefficients, epw2wea,
 # gendaymtx, dctimestep, rmtxop; metrics of both side by side (seed Appendix A errors) and
@@ -101,13 +130,22 @@ TAI_SPREAD = paste <(grep '^[0-9]' $(1) | cut -f5) <(grep '^[0-9]' $(2) | cut -f
 # with the real Radiance binaries, and the Slurm job array, merge and resume. When Slurm
 # cannot start, the Slurm test fails with start.sh's reason; RDAYLIGHT_SKIP_SLURM=1 skips
 # it deliberately.
-test: radiance
+test: radiance browser
 	@if [ -z "$$RDAYLIGHT_SKIP_SLURM" ]; then bash examples/slurm/start.sh || \
 	    echo "make test: Slurm did not start; tests/slurm.rs will fail saying why"; fi
 	RDAYLIGHT_SLURM=1 $(CARGO) test --workspace
 
 radiance:
 	@$(PYTHON) -c "import pyradiance" 2>/dev/null || $(PYTHON) -m pip install --quiet "$(PYRADIANCE)"
+
+# A real headless browser for tests/report_browser.rs (opens out/report.html-style pages:
+# no console errors, no broken images, a screenshot kept in target/test-artefacts/).
+# Debian's chromium, installed with apt-get when missing (as root or through sudo);
+# RDAYLIGHT_SKIP_BROWSER=1 skips that test deliberately.
+browser:
+	@command -v chromium >/dev/null 2>&1 || [ -n "$$RDAYLIGHT_SKIP_BROWSER" ] || { \
+	    SUDO=$$([ "$$(id -u)" = 0 ] || echo sudo); \
+	    $$SUDO apt-get update -qq >/dev/null && $$SUDO apt-get install -y -qq chromium >/dev/null; }
 
 # Regenerate every reference file from real Radiance (minutes of CPU; not part of `test`).
 fixtures: radiance

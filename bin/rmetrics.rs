@@ -17,5 +17,6 @@ fn real_main() -> Result<(), rdaylight::Error> {
         Command::Annual(c) => c.run(&mut stdout, &|n| eprintln!("rmetrics: note: {n}")),
         Command::Melanopic(c) => c.run(&mut stdout),
         Command::Compare(c) => c.run(&mut stdout),
+        Command::Report(c) => c.run(&|n| eprintln!("rmetrics: note: {n}")),
     }
 }

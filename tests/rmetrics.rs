@@ -268,6 +268,8 @@ fn map_png_size_and_colour_ends() {
         &pts,
         "--map",
         "TAI_klxh",
+        "--range",
+        "1,9",
         "--png",
         png.to_str().unwrap(),
         "--json",
@@ -276,14 +278,52 @@ fn map_png_size_and_colour_ends() {
     ]));
     assert!(text.contains("sensor\tx\ty\tz\tTAI_klxh"));
     let img = image::open(&png).unwrap().to_rgb8();
-    // 3 x 1 cells of 16 px; legend labels "8.65" and "1.15" (4 glyphs of 12 px).
+    // A report-page figure; the colour bar runs palette(0) at the bottom to palette(1) at
+    // the top (viridis, the default), on the --range 1,9 given here.
+    use rdaylight::metrics::map::{BAR_BOTTOM, BAR_TOP, BAR_W, BAR_X, PLAN};
+    use rdaylight::metrics::plot::Palette;
+    assert_eq!((img.width(), img.height()), (1200, 900));
+    let bx = (BAR_X + BAR_W / 2) as u32;
     assert_eq!(
-        (img.width(), img.height()),
-        (8 + 48 + 8 + 16 + 4 + 48 + 8, 8 + 64 + 8)
+        img.get_pixel(bx, BAR_BOTTOM as u32 - 1).0,
+        Palette::Viridis.colour(0.0)
     );
-    // Sensor 1 has the highest TAI: red; sensor 3 the lowest: blue.
-    assert_eq!(img.get_pixel(16, 16).0, [255, 0, 0]);
-    assert_eq!(img.get_pixel(8 + 32 + 8, 16).0, [0, 0, 255]);
+    // (Row BAR_TOP is the bar's black frame; the next row is t = 1 - 1.5/600.)
+    let top = img.get_pixel(bx, BAR_TOP as u32 + 1).0;
+    let want = Palette::Viridis.colour(1.0);
+    assert!(
+        top.iter().zip(want).all(|(a, b)| a.abs_diff(b) <= 2),
+        "{top:?}"
+    );
+    let mid = (BAR_TOP + BAR_BOTTOM) as u32 / 2;
+    let c = img.get_pixel(bx, mid).0;
+    let want = Palette::Viridis.colour(0.5);
+    assert!(
+        c.iter().zip(want).all(|(a, b)| a.abs_diff(b) <= 3),
+        "{c:?} {want:?}"
+    );
+    // Sensor 1 (x = 0, TAI 8.65) is near the top of the scale, sensor 3 (x = 1, TAI 1.15)
+    // near the bottom: each colour fills its cell, sensor 1's left of sensor 3's.
+    let find = |rgb: [u8; 3]| {
+        let mut xs = Vec::new();
+        for y in PLAN.1 as u32..PLAN.3 as u32 {
+            for x in PLAN.0 as u32..PLAN.2 as u32 {
+                if img.get_pixel(x, y).0 == rgb {
+                    xs.push(x);
+                }
+            }
+        }
+        xs
+    };
+    let hi = find(Palette::Viridis.colour((8.65 - 1.0) / 8.0));
+    let lo = find(Palette::Viridis.colour((1.15 - 1.0) / 8.0));
+    assert!(
+        hi.len() > 1000 && lo.len() > 1000,
+        "{} {}",
+        hi.len(),
+        lo.len()
+    );
+    assert!(hi.iter().max() < lo.iter().min());
     // JSON carries the same numbers.
     let j: serde_json::Value = serde_json::from_slice(&std::fs::read(&json).unwrap()).unwrap();
     assert_eq!(j["sensors"][0]["TAI_klxh"], 8.65);

@@ -6,8 +6,12 @@
 
 use crate::error::{Error, Result};
 use crate::metrics::Thresholds;
-use crate::metrics::config::{AnnualConfig, CompareConfig, MelanopicConfig, ScheduleOptions};
+use crate::metrics::config::{
+    AnnualConfig, CompareConfig, FigureOptions, MelanopicConfig, ReportConfig, ScheduleOptions,
+    TEMPORAL_RANGE_LX, TemporalOptions, parse_pair,
+};
 use crate::metrics::melanopic::DailyRule;
+use crate::metrics::plot::Palette;
 use crate::metrics::schedule::parse_range;
 use clap::{Args, Parser, Subcommand};
 
@@ -16,7 +20,10 @@ Example pipeline (two-phase, with Radiance or rdaylight tools):
   gendaymtx -m 1 weather.wea > sky.smx             # one column per weather step (no -u)
   dctimestep dc.mtx sky.smx | rmtxop -fa -c 47.4 119.9 11.6 - > illum.mtx
   rmetrics -w weather.wea --pts sensors.pts --json metrics.json illum.mtx > metrics.tsv
-  rmetrics -w weather.wea --pts sensors.pts --map DA --png da.png illum.mtx > /dev/null
+  rmetrics -w weather.wea --pts sensors.pts --scene room.rad --map DA --png da.png \\
+      --cdf da_cdf.svg --temporal year.png illum.mtx > /dev/null
+  rmetrics report -w weather.wea --pts sensors.pts --scene room.rad --direct-sun sun.mtx \\
+      --setting 'rdc=-ab 5 -ad 10000 -lw 1e-5' -o report.html illum.mtx
   # ASE needs direct sun only: sun coefficients (-ab 0) times a sun-only sky (gendaymtx -d)
   rmetrics -w weather.wea --direct-sun sun.mtx illum.mtx
   rmetrics compare benchmark.tsv variant.tsv      # PE, MAPE, RMSE (seed Appendix A)
@@ -49,19 +56,8 @@ pub struct Options {
     pub illum: String,
     #[command(flatten)]
     pub sched: SchedArgs,
-    /// UDI thresholds LOW,MID,HIGH in lux (UDI-n < LOW <= UDI-s < MID <= UDI-a <= HIGH <
-    /// UDI-e). The seed's three-bin UDI (300/3000) is UDI-n + UDI-s, UDI-a, UDI-e.
-    #[arg(long, value_name = "LOW,MID,HIGH", default_value = "100,300,3000")]
-    pub udi: String,
-    /// Daylight Autonomy threshold in lux (E >= DA counts).
-    #[arg(value_parser = super::finite, long, value_name = "LUX", default_value_t = 300.0)]
-    pub da: f64,
-    /// sDA: a sensor passes when its DA is at least this percentage.
-    #[arg(value_parser = super::finite, long, value_name = "PERCENT", default_value_t = 50.0)]
-    pub sda: f64,
-    /// ASE thresholds LUX,HOURS: direct sun above LUX for more than HOURS occupied hours.
-    #[arg(long, value_name = "LUX,HOURS", default_value = "1000,250")]
-    pub ase: String,
+    #[command(flatten)]
+    pub thresh: ThreshArgs,
     /// Direct-sun-only illuminance matrix (same sensors and steps) for ASE. Without it ASE
     /// is not computed (and asking for it is an error), never reported as zero.
     #[arg(long, value_name = "FILE")]
@@ -76,14 +72,98 @@ pub struct Options {
     /// Also write the results as JSON.
     #[arg(long, value_name = "FILE")]
     pub json: Option<String>,
-    /// Metric to map (a column name: TAI_klxh, UDI_n, UDI_s, UDI_a, UDI_e, DA, sDA, ASE_h,
-    /// ASE); needs --pts and --png.
-    #[arg(long, value_name = "METRIC", requires = "png")]
+    /// Metric of the map and the distribution (a column name: TAI_klxh, UDI_n, UDI_s,
+    /// UDI_a, UDI_e, DA, sDA, ASE_h, ASE).
+    #[arg(long, value_name = "METRIC")]
     pub map: Option<String>,
-    /// PNG file for --map: one 16-px cell per sensor over the plan (x right, y up), blue =
-    /// minimum to red = maximum, legend bar with min/max labels.
+    /// Map file of --map (.png or .svg; needs --pts): 1200 x 900 px, title, metric and
+    /// unit, colour bar on the metric's fixed scale, room outline (--scene), sensors, north
+    /// arrow (north = +Y) and scale bar.
     #[arg(long, value_name = "FILE", requires = "map")]
     pub png: Option<String>,
+    /// Distribution of --map over the floor (.png or .svg): share of sensors reaching at
+    /// least each value.
+    #[arg(long, value_name = "FILE", requires = "map")]
+    pub cdf: Option<String>,
+    #[command(flatten)]
+    pub fig: FigArgs,
+}
+
+#[derive(Args, Clone)]
+pub struct ThreshArgs {
+    /// UDI thresholds LOW,MID,HIGH in lux (UDI-n < LOW <= UDI-s < MID <= UDI-a <= HIGH <
+    /// UDI-e). The seed's three-bin UDI (300/3000) is UDI-n + UDI-s, UDI-a, UDI-e.
+    #[arg(long, value_name = "LOW,MID,HIGH", default_value = "100,300,3000")]
+    pub udi: String,
+    /// Daylight Autonomy threshold in lux (E >= DA counts).
+    #[arg(value_parser = super::finite, long, value_name = "LUX", default_value_t = 300.0)]
+    pub da: f64,
+    /// sDA: a sensor passes when its DA is at least this percentage.
+    #[arg(value_parser = super::finite, long, value_name = "PERCENT", default_value_t = 50.0)]
+    pub sda: f64,
+    /// ASE thresholds LUX,HOURS: direct sun above LUX for more than HOURS occupied hours.
+    #[arg(long, value_name = "LUX,HOURS", default_value = "1000,250")]
+    pub ase: String,
+}
+
+/// Options of every figure.
+#[derive(Args, Clone)]
+pub struct FigArgs {
+    /// Scene (.rad) whose walls and glazing outline the maps (vertical polygons projected
+    /// onto the floor plane; glass, dielectric, interface and BSDF materials are windows).
+    #[arg(long, value_name = "FILE")]
+    pub scene: Option<String>,
+    /// Colour scale LO,HI of maps and distributions instead of the metric's fixed scale
+    /// (TAI_klxh 0,10000 klx.h; UDI, DA, sDA, ASE 0,100 %; ASE_h 0,1000 h).
+    #[arg(long, value_name = "LO,HI", allow_hyphen_values = true)]
+    pub range: Option<String>,
+    /// Palette: viridis (perceptually uniform, default) or falsecolor (Radiance's
+    /// falsecolor default palette).
+    #[arg(long, value_name = "NAME", default_value = "viridis")]
+    pub palette: String,
+    /// Write each sensor's value in its map cell.
+    #[arg(long)]
+    pub values: bool,
+    /// Temporal map (day of year x hour) of illuminance, .png or .svg: the room median of
+    /// every step, or --temporal-sensor's; needs --weather or --hours.
+    #[arg(long, value_name = "FILE")]
+    pub temporal: Option<String>,
+    /// Sensor (1-based matrix row) of the temporal map instead of the room median.
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..))]
+    pub temporal_sensor: Option<u64>,
+    /// Colour scale LO,HI of the temporal map in lux (default 0,3000).
+    #[arg(long, value_name = "LO,HI", allow_hyphen_values = true)]
+    pub temporal_range: Option<String>,
+}
+
+impl FigArgs {
+    fn to_options(&self) -> Result<(FigureOptions, Option<TemporalOptions>)> {
+        let range = self
+            .range
+            .as_deref()
+            .map(|r| parse_pair(r, "--range"))
+            .transpose()?;
+        let figures = FigureOptions {
+            scene: self.scene.clone(),
+            range,
+            palette: Palette::parse(&self.palette)?,
+            values: self.values,
+        };
+        let temporal = match &self.temporal {
+            Some(path) => Some(TemporalOptions {
+                path: path.clone(),
+                sensor: self.temporal_sensor.map(|s| s as usize),
+                range: self
+                    .temporal_range
+                    .as_deref()
+                    .map(|r| parse_pair(r, "--temporal-range"))
+                    .transpose()?
+                    .unwrap_or(TEMPORAL_RANGE_LX),
+            }),
+            None => None,
+        };
+        Ok((figures, temporal))
+    }
 }
 
 #[derive(Args, Clone)]
@@ -154,6 +234,44 @@ pub enum Cmd {
         #[arg(value_parser = super::finite, long, value_name = "HOURS", default_value_t = 4.0)]
         min_hours: f64,
     },
+    /// One self-contained HTML report of an annual study: room and per-sensor metrics, a
+    /// map of every metric, the temporal map, distributions, settings, provenance (inputs
+    /// with SHA-256, tool versions, commands) and warnings.
+    Report {
+        /// Illuminance matrix; `-` = standard input.
+        #[arg(default_value = "-")]
+        illum: String,
+        #[command(flatten)]
+        sched: SchedArgs,
+        #[command(flatten)]
+        thresh: ThreshArgs,
+        /// Direct-sun-only illuminance matrix for ASE.
+        #[arg(long, value_name = "FILE")]
+        direct_sun: Option<String>,
+        /// Sensor points (one per matrix row).
+        #[arg(long, value_name = "FILE", required = true)]
+        pts: String,
+        /// The HTML file.
+        #[arg(short = 'o', long, value_name = "FILE", required = true)]
+        output: String,
+        /// Page title.
+        #[arg(long, default_value = "Annual daylight study")]
+        title: String,
+        /// A setting to list, NAME=VALUE (repeatable, in order), e.g. 'rdc=-ab 5 -ad 10000'.
+        #[arg(long, value_name = "NAME=VALUE")]
+        setting: Vec<String>,
+        /// A command that made the inputs (repeatable, in order).
+        #[arg(long, value_name = "TEXT")]
+        command: Vec<String>,
+        /// Another input file to list with its SHA-256 (repeatable).
+        #[arg(long, value_name = "FILE")]
+        input: Vec<String>,
+        /// A tool version line such as `rdc 0.1.0` (repeatable).
+        #[arg(long, value_name = "TEXT")]
+        tool: Vec<String>,
+        #[command(flatten)]
+        fig: FigArgs,
+    },
     /// PE, MAPE, RMSE (seed Appendix A) of variants against a benchmark: two or more
     /// rmetrics TSV tables, or two or more illuminance matrices (then with the same time
     /// stamp options as the main command).
@@ -174,6 +292,7 @@ pub enum Command {
     Annual(AnnualConfig),
     Melanopic(MelanopicConfig),
     Compare(CompareConfig),
+    Report(ReportConfig),
 }
 
 /// `n` comma-separated numbers (`--udi`, `--ase`).
@@ -222,14 +341,89 @@ impl Options {
                 schedule: sched.to_options(),
             })),
             Some(m @ Cmd::Melanopic { .. }) => melanopic(m, command).map(Command::Melanopic),
+            Some(Cmd::Report {
+                illum,
+                sched,
+                thresh,
+                direct_sun,
+                pts,
+                output,
+                title,
+                setting,
+                command,
+                input,
+                tool,
+                fig,
+            }) => {
+                let (figures, temporal) = fig.to_options()?;
+                let temporal = temporal.or_else(|| {
+                    (sched.weather.is_some() || sched.hours.is_some()).then(|| TemporalOptions {
+                        path: "report.png".into(),
+                        sensor: fig.temporal_sensor.map(|s| s as usize),
+                        range: TEMPORAL_RANGE_LX,
+                    })
+                });
+                let settings = setting
+                    .iter()
+                    .map(|s| {
+                        s.split_once('=')
+                            .map(|(k, v)| (k.trim().to_string(), v.trim().to_string()))
+                            .ok_or_else(|| {
+                                Error::Usage(format!("--setting: expected NAME=VALUE, found '{s}'"))
+                            })
+                    })
+                    .collect::<Result<Vec<_>>>()?;
+                Ok(Command::Report(ReportConfig {
+                    annual: AnnualConfig {
+                        illum: illum.clone(),
+                        schedule: sched.to_options(),
+                        thresholds: thresh.to_thresholds()?,
+                        direct_sun: direct_sun.clone(),
+                        pts: Some(pts.clone()),
+                        output: None,
+                        json: None,
+                        map: None,
+                        png: None,
+                        cdf: None,
+                        figures,
+                        temporal,
+                    },
+                    html: output.clone(),
+                    title: title.clone(),
+                    settings,
+                    commands: command.clone(),
+                    inputs: input.clone(),
+                    tools: tool.clone(),
+                }))
+            }
             None => self.to_annual().map(Command::Annual),
         }
     }
 
     fn to_annual(&self) -> Result<AnnualConfig> {
+        let (figures, temporal) = self.fig.to_options()?;
+        Ok(AnnualConfig {
+            illum: self.illum.clone(),
+            schedule: self.sched.to_options(),
+            thresholds: self.thresh.to_thresholds()?,
+            direct_sun: self.direct_sun.clone(),
+            pts: self.pts.clone(),
+            output: self.output.clone(),
+            json: self.json.clone(),
+            map: self.map.clone(),
+            png: self.png.clone(),
+            cdf: self.cdf.clone(),
+            figures,
+            temporal,
+        })
+    }
+}
+
+impl ThreshArgs {
+    fn to_thresholds(&self) -> Result<Thresholds> {
         let udi = numbers(&self.udi, "--udi", 3)?;
         let ase = numbers(&self.ase, "--ase", 2)?;
-        let thresholds = Thresholds {
+        Ok(Thresholds {
             udi_low: udi[0],
             udi_mid: udi[1],
             udi_high: udi[2],
@@ -237,16 +431,6 @@ impl Options {
             sda_percent: self.sda,
             ase_lux: ase[0],
             ase_hours: ase[1],
-        };
-        Ok(AnnualConfig {
-            illum: self.illum.clone(),
-            schedule: self.sched.to_options(),
-            thresholds,
-            direct_sun: self.direct_sun.clone(),
-            pts: self.pts.clone(),
-            output: self.output.clone(),
-            json: self.json.clone(),
-            map: self.map.clone().zip(self.png.clone()),
         })
     }
 }

@@ -174,8 +174,6 @@ pub fn glob(pattern: &str, text: &str) -> bool {
     p[i..].iter().all(|&c| c == '*')
 }
 
-const GLAZING: [&str; 5] = ["glass", "dielectric", "interface", "BSDF", "aBSDF"];
-
 struct Surface {
     index: usize,
     sampled: Sampled,
@@ -379,9 +377,7 @@ pub fn analyse(scene: &Scene, opts: &Options) -> Result<Analysis> {
     let mut shell = Vec::new();
     let mut surfaces: Vec<Surface> = Vec::new();
     for (i, o) in scene.surfaces() {
-        let glazing = scene
-            .material_of(i)
-            .is_some_and(|m| GLAZING.contains(&scene.objects[m].type_name()));
+        let glazing = scene.is_glazing(i);
         let pinned = opts.permanent.iter().any(|p| glob(p, &o.id));
         match sample(&o.kind) {
             Some(sampled) if !glazing && !pinned => surfaces.push(Surface { index: i, sampled }),

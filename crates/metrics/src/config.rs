@@ -12,10 +12,13 @@
 
 use crate::annual::column_names;
 use crate::error::{Error, Result};
+use crate::figures::{CdfFigure, TemporalFigure};
 use crate::formats::sensors::{RayFormat, SensorRay, read_rays};
+use crate::map::{MapFigure, MapSpec, Plan};
 use crate::melanopic::{DailyRule, Quantity, Summary};
+use crate::plot::{self, Palette};
 use crate::schedule::{ScheduleSpec, Stamp, parse_range};
-use crate::{LuxRows, Thresholds, compare, map, melanopic, report, schedule};
+use crate::{LuxRows, Results, Thresholds, compare, html, melanopic, report, schedule};
 use rdaylight_base::io::write_atomically;
 use std::io::Write;
 use std::path::Path;
@@ -102,12 +105,182 @@ fn check_points(pts: &str, npts: usize, matrix: &str, nrows: usize) -> Result<()
     Ok(())
 }
 
-/// Write a falsecolor map of `vals` over the plan positions `xy` as a PNG file.
-fn write_map(png: &str, xy: &[[f64; 2]], vals: &[f64]) -> Result<()> {
-    let bytes = map::png_bytes(&map::render(xy, vals)?)?;
-    write_atomically(Path::new(png), |w| {
-        w.write_all(&bytes).map_err(|e| Error::io(png, e))
-    })
+/// How a metric is titled, labelled and scaled on figures.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MetricInfo {
+    pub title: String,
+    /// Colour-bar or axis caption: the quantity and its unit.
+    pub unit: String,
+    /// The fixed, documented scale of maps and distributions.
+    pub scale: (f64, f64),
+    /// Decimals for room values and values written on maps.
+    pub decimals: usize,
+}
+
+/// Top of TAI's fixed scale in klx·h: a mean of 2.74 klx over 3650 occupied hours (8-18 h
+/// every day). Deep-plan values spread below it; sunlit sensors near windows exceed it
+/// and show the over-range colour.
+pub const TAI_SCALE_KLXH: f64 = 10_000.0;
+/// Top of ASE_h's fixed scale in hours (four times the LM-83 250 h criterion).
+pub const ASE_H_SCALE: f64 = 1000.0;
+
+/// Title, caption, fixed scale and precision of an rmetrics column (thresholds in titles).
+///
+/// Fixed scales: TAI_klxh 0-[`TAI_SCALE_KLXH`] klx·h; UDI_n/s/a/e, DA 0-100 % of occupied
+/// hours; sDA and ASE per sensor 0 (fails) or 100 (passes) on 0-100 %; ASE_h
+/// 0-[`ASE_H_SCALE`] h.
+pub fn metric_info(m: &str, t: &Thresholds) -> MetricInfo {
+    let pct = |title: String, unit: &str| MetricInfo {
+        title,
+        unit: unit.into(),
+        scale: (0.0, 100.0),
+        decimals: 1,
+    };
+    let (low, mid, high) = (t.udi_low, t.udi_mid, t.udi_high);
+    match m {
+        "TAI_klxh" => MetricInfo {
+            title: "Total annual illuminance, TAI (seed Eq. 4.1)".into(),
+            unit: "TAI (klx·h)".into(),
+            scale: (0.0, TAI_SCALE_KLXH),
+            decimals: 0,
+        },
+        "UDI_n" => pct(
+            format!("Useful daylight illuminance UDI-n (E < {low} lx)"),
+            "UDI-n (%)",
+        ),
+        "UDI_s" => pct(
+            format!("Useful daylight illuminance UDI-s ({low} ≤ E < {mid} lx)"),
+            "UDI-s (%)",
+        ),
+        "UDI_a" => pct(
+            format!("Useful daylight illuminance UDI-a ({mid} ≤ E ≤ {high} lx)"),
+            "UDI-a (%)",
+        ),
+        "UDI_e" => pct(
+            format!("Useful daylight illuminance UDI-e (E > {high} lx)"),
+            "UDI-e (%)",
+        ),
+        "DA" => pct(format!("Daylight autonomy, DA (E ≥ {} lx)", t.da), "DA (%)"),
+        "sDA" => pct(
+            format!(
+                "Spatial daylight autonomy: sensors with DA ≥ {} % (100 = passes)",
+                t.sda_percent
+            ),
+            "sDA per sensor (%)",
+        ),
+        "ASE_h" => MetricInfo {
+            title: format!(
+                "Annual sunlight exposure: hours of direct sun > {} lx",
+                t.ase_lux
+            ),
+            unit: "ASE (h)".into(),
+            scale: (0.0, ASE_H_SCALE),
+            decimals: 0,
+        },
+        "ASE" => pct(
+            format!(
+                "ASE: sensors with direct sun > {} lx for > {} h (100 = exceeds)",
+                t.ase_lux, t.ase_hours
+            ),
+            "ASE per sensor (%)",
+        ),
+        other => MetricInfo {
+            title: other.into(),
+            unit: other.into(),
+            scale: (0.0, 1.0),
+            decimals: 2,
+        },
+    }
+}
+
+/// Options every figure of a run shares.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct FigureOptions {
+    /// Scene whose walls and glazing outline the maps.
+    pub scene: Option<String>,
+    /// `--range LO,HI` instead of the metric's fixed scale.
+    pub range: Option<(f64, f64)>,
+    pub palette: Palette,
+    /// Write values in the map cells.
+    pub values: bool,
+}
+
+/// The temporal map (day of year x hour) of illuminance.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TemporalOptions {
+    /// Figure file (.png or .svg).
+    pub path: String,
+    /// 1-based sensor (matrix row); none: the room median of every step.
+    pub sensor: Option<usize>,
+    /// Colour scale in lux (default 0-3000 lx: UDI's upper bound).
+    pub range: (f64, f64),
+}
+
+/// The default temporal-map scale: 0 to UDI's upper threshold, 3000 lx.
+pub const TEMPORAL_RANGE_LX: (f64, f64) = (0.0, 3000.0);
+
+/// `LO,HI` with LO < HI (`--range`, `--temporal-range`).
+pub fn parse_pair(s: &str, what: &str) -> Result<(f64, f64)> {
+    let v: Vec<f64> = s
+        .split(',')
+        .map(|x| x.trim().parse::<f64>())
+        .collect::<std::result::Result<_, _>>()
+        .map_err(|_| Error::Usage(format!("{what}: expected LO,HI such as 0,100, found '{s}'")))?;
+    match v[..] {
+        [a, b] if a.is_finite() && b.is_finite() && a < b => Ok((a, b)),
+        _ => Err(Error::Usage(format!(
+            "{what}: expected LO,HI with LO < HI such as 0,100, found '{s}'"
+        ))),
+    }
+}
+
+/// Sensor positions in plan.
+fn plan_xy(pos: &[SensorRay]) -> Vec<[f64; 2]> {
+    pos.iter().map(|r| [r.org[0], r.org[1]]).collect()
+}
+
+/// The outline of `scene` near the sensors (none without a scene).
+fn load_plan(scene: Option<&str>, xy: &[[f64; 2]]) -> Result<Plan> {
+    let Some(path) = scene else {
+        return Ok(Plan::default());
+    };
+    let sc = crate::formats::scene::load(&[path], &crate::formats::scene::LoadOptions::from_env())?;
+    let mut lo = [f64::INFINITY; 2];
+    let mut hi = [f64::NEG_INFINITY; 2];
+    for p in xy {
+        lo = [lo[0].min(p[0]), lo[1].min(p[1])];
+        hi = [hi[0].max(p[0]), hi[1].max(p[1])];
+    }
+    Ok(Plan::from_scene(&sc, (lo, hi), 1.0))
+}
+
+/// Per-step median over sensors (NaN-free input; an even count takes the mean of the middle two).
+fn column_medians(rows: &[Vec<f32>]) -> Vec<f64> {
+    let ncols = rows.first().map_or(0, Vec::len);
+    let mut col = Vec::with_capacity(rows.len());
+    (0..ncols)
+        .map(|j| {
+            col.clear();
+            col.extend(rows.iter().map(|r| r[j] as f64));
+            col.sort_by(f64::total_cmp);
+            let n = col.len();
+            if n % 2 == 1 {
+                col[n / 2]
+            } else {
+                (col[n / 2 - 1] + col[n / 2]) / 2.0
+            }
+        })
+        .collect()
+}
+
+/// What one pass over the matrices gives: the metrics, positions, and the illuminance rows
+/// the temporal map needs.
+struct Study {
+    res: Results,
+    positions: Option<Vec<SensorRay>>,
+    /// Per-step values for the temporal map and their stamps.
+    temporal: Option<(Vec<f64>, Vec<Stamp>)>,
+    occupied: Option<(f64, f64)>,
 }
 
 /// The annual metrics of one illuminance matrix.
@@ -125,15 +298,21 @@ pub struct AnnualConfig {
     pub output: Option<String>,
     /// JSON file.
     pub json: Option<String>,
-    /// Metric (a column name) and PNG file of the map.
-    pub map: Option<(String, String)>,
+    /// Metric (a column name) of the map and the distribution.
+    pub map: Option<String>,
+    /// Map file (.png or .svg).
+    pub png: Option<String>,
+    /// Distribution over the floor of the `map` metric (.png or .svg).
+    pub cdf: Option<String>,
+    pub figures: FigureOptions,
+    pub temporal: Option<TemporalOptions>,
 }
 
 impl AnnualConfig {
     /// Thresholds, and a map's metric and inputs.
     pub fn validate(&self) -> Result<()> {
         self.thresholds.check()?;
-        if let Some((m, _)) = &self.map {
+        if let Some(m) = &self.map {
             if !column_names(true).contains(&m.as_str()) {
                 return Err(Error::Usage(format!(
                     "--map: unknown metric '{m}'; one of {}",
@@ -143,24 +322,48 @@ impl AnnualConfig {
             if m.starts_with("ASE") && self.direct_sun.is_none() {
                 return Err(Error::Usage(crate::ASE_REFUSAL.into()));
             }
-            if self.pts.is_none() {
+            if self.png.is_some() && self.pts.is_none() {
                 return Err(Error::Usage(
                     "--map needs the sensor positions (--pts FILE)".into(),
+                ));
+            }
+        }
+        for f in [&self.png, &self.cdf].into_iter().flatten() {
+            plot::Format::of(f)?;
+        }
+        if let Some(t) = &self.temporal {
+            plot::Format::of(&t.path)?;
+            if self.schedule.weather.is_none() && self.schedule.hours.is_none() {
+                return Err(Error::Usage(
+                    "--temporal needs the time stamps of the columns (--weather or --hours)".into(),
                 ));
             }
         }
         Ok(())
     }
 
-    /// Compute and write; `note` receives remarks about the input (an RGB conversion).
-    pub fn run(&self, stdout: &mut dyn Write, note: &dyn Fn(&str)) -> Result<()> {
-        self.validate()?;
+    /// One pass: metrics, positions and (when asked) the temporal map's values.
+    fn study(&self, note: &dyn Fn(&str)) -> Result<Study> {
         let positions = self.pts.as_deref().map(read_points).transpose()?;
         let mut illum = LuxRows::open(&self.illum)?;
-        let schedule = self.schedule.spec()?.build(illum.ncols(), illum.name())?;
+        let spec = self.schedule.spec()?;
+        let schedule = spec.build(illum.ncols(), illum.name())?;
         let mut direct = self.direct_sun.as_deref().map(LuxRows::open).transpose()?;
         let t = &self.thresholds;
-        let res = crate::compute(&mut illum, direct.as_mut(), &schedule, t)?;
+        // The room median needs every sensor's row (kept as f32: 4 bytes per sensor and
+        // step); one sensor only its own.
+        let mut rows: Vec<Vec<f32>> = Vec::new();
+        let mut kept: Option<Vec<f64>> = None;
+        let mut k = 0usize;
+        let want = self.temporal.as_ref().map(|t| t.sensor);
+        let res = crate::compute_observed(&mut illum, direct.as_mut(), &schedule, t, &mut |row| {
+            k += 1;
+            match want {
+                Some(None) => rows.push(row.iter().map(|&v| v as f32).collect()),
+                Some(Some(s)) if s == k => kept = Some(row.to_vec()),
+                _ => {}
+            }
+        })?;
         if let Some(p) = &positions {
             let pts = self.pts.as_deref().unwrap_or("");
             check_points(pts, p.len(), illum.name(), res.sensors.len())?;
@@ -170,27 +373,398 @@ impl AnnualConfig {
                 note(n);
             }
         }
-        let pos = positions.as_deref();
-        if let Some((m, png)) = &self.map {
-            let k = column_names(res.with_ase)
-                .iter()
-                .position(|c| c == m)
-                .ok_or_else(|| Error::Usage(crate::ASE_REFUSAL.into()))?;
-            let xy: Vec<[f64; 2]> = pos
-                .unwrap_or(&[])
-                .iter()
-                .map(|r| [r.org[0], r.org[1]])
-                .collect();
-            let vals: Vec<f64> = res.sensors.iter().map(|s| s.values()[k]).collect();
-            write_map(png, &xy, &vals)?;
+        let temporal = match want {
+            None => None,
+            Some(sensor) => {
+                let values = match sensor {
+                    None => column_medians(&rows),
+                    Some(s) => kept.ok_or_else(|| {
+                        Error::Usage(format!(
+                            "--temporal-sensor {s}: {} has {} sensor rows (numbered from 1)",
+                            self.illum,
+                            res.sensors.len()
+                        ))
+                    })?,
+                };
+                let stamps = spec.stamps()?.unwrap_or_default();
+                Some((values, stamps))
+            }
+        };
+        let occupied = if self.schedule.flags.is_none() && !self.schedule.all_steps {
+            spec.occupied
+        } else {
+            None
+        };
+        Ok(Study {
+            res,
+            positions,
+            temporal,
+            occupied,
+        })
+    }
+
+    /// The subtitle of figures: input, sensors, occupancy.
+    fn subtitle(&self, study: &Study) -> String {
+        format!(
+            "{}: {} sensors; {} occupied steps ({})",
+            self.illum,
+            study.res.sensors.len(),
+            study.res.occupied_steps,
+            study
+                .res
+                .notes
+                .first()
+                .map_or("", |n| n.trim_start_matches("occupancy: "))
+        )
+    }
+
+    /// The map spec of metric `m`.
+    fn map_spec(&self, m: &str, subtitle: &str) -> MapSpec {
+        let info = metric_info(m, &self.thresholds);
+        MapSpec {
+            title: info.title,
+            subtitle: subtitle.into(),
+            unit: info.unit,
+            range: self.figures.range.unwrap_or(info.scale),
+            fixed: true,
+            palette: self.figures.palette,
+            values: self.figures.values,
+            decimals: info.decimals,
         }
+    }
+
+    fn column(res: &Results, m: &str) -> Result<Vec<f64>> {
+        let k = column_names(res.with_ase)
+            .iter()
+            .position(|c| c == &m)
+            .ok_or_else(|| Error::Usage(crate::ASE_REFUSAL.into()))?;
+        Ok(res.sensors.iter().map(|s| s.values()[k]).collect())
+    }
+
+    fn cdf_figure<'a>(&self, m: &str, vals: &'a [f64], subtitle: &str) -> CdfFigure<'a> {
+        let info = metric_info(m, &self.thresholds);
+        let marks = match m {
+            "DA" => vec![(
+                self.thresholds.sda_percent,
+                format!(" sDA: DA ≥ {} %", self.thresholds.sda_percent),
+            )],
+            "ASE_h" => vec![(
+                self.thresholds.ase_hours,
+                format!(" ASE: > {} h", self.thresholds.ase_hours),
+            )],
+            _ => vec![],
+        };
+        CdfFigure {
+            title: format!("Distribution over the floor: {}", info.title),
+            subtitle: subtitle.into(),
+            unit: info.unit,
+            values: vals,
+            range: self.figures.range.unwrap_or(info.scale),
+            marks,
+        }
+    }
+
+    fn temporal_figure<'a>(&self, study: &'a Study, subtitle: &str) -> Option<TemporalFigure<'a>> {
+        let (values, stamps) = study.temporal.as_ref()?;
+        let t = self.temporal.as_ref()?;
+        let which = match t.sensor {
+            None => "room median".to_string(),
+            Some(s) => format!("sensor {s}"),
+        };
+        Some(TemporalFigure {
+            title: format!("Work-plane illuminance through the year, {which}"),
+            subtitle: subtitle.into(),
+            unit: "E (lx)".into(),
+            stamps,
+            values,
+            range: t.range,
+            palette: self.figures.palette,
+            occupied: study.occupied,
+        })
+    }
+
+    /// Compute and write; `note` receives remarks about the input (an RGB conversion).
+    pub fn run(&self, stdout: &mut dyn Write, note: &dyn Fn(&str)) -> Result<()> {
+        self.validate()?;
+        let study = self.study(note)?;
+        let res = &study.res;
+        let pos = study.positions.as_deref();
+        let subtitle = self.subtitle(&study);
+        if let Some(m) = &self.map {
+            let vals = Self::column(res, m)?;
+            if let (Some(path), Some(p)) = (&self.png, pos) {
+                let xy = plan_xy(p);
+                let plan = load_plan(self.figures.scene.as_deref(), &xy)?;
+                let spec = self.map_spec(m, &subtitle);
+                plot::write(&MapFigure::new(&xy, &vals, &spec, &plan)?, path)?;
+            }
+            if let Some(path) = &self.cdf {
+                plot::write(&self.cdf_figure(m, &vals, &subtitle), path)?;
+            }
+        }
+        if let (Some(fig), Some(t)) = (self.temporal_figure(&study, &subtitle), &self.temporal) {
+            fig.check()?;
+            if fig.stamps.len() != fig.values.len() {
+                return Err(Error::Mismatch(format!(
+                    "{}: {} columns but {} time stamps",
+                    self.illum,
+                    fig.values.len(),
+                    fig.stamps.len()
+                )));
+            }
+            plot::write(&fig, &t.path)?;
+        }
+        let t = &self.thresholds;
         if let Some(j) = &self.json {
             write_atomically(Path::new(j), |w| {
-                report::write_json(w, &self.illum, &res, t, pos)
+                report::write_json(w, &self.illum, res, t, pos)
             })?;
         }
         write_out(self.output.as_deref(), stdout, |w| {
-            report::write_tsv(w, &self.illum, &res, t, pos)
+            report::write_tsv(w, &self.illum, res, t, pos)
+        })
+    }
+}
+
+/// The study's HTML report (`rmetrics report`): metrics, maps, temporal map, distribution,
+/// settings, provenance and warnings in one self-contained page ([`crate::html`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ReportConfig {
+    /// The metrics and figures to report (its `output`, `json` and figure files unused).
+    pub annual: AnnualConfig,
+    /// The HTML file.
+    pub html: String,
+    pub title: String,
+    /// Settings as `name=value` pairs, in order (rdc options, sky model, ...).
+    pub settings: Vec<(String, String)>,
+    /// The commands that made the inputs, in order.
+    pub commands: Vec<String>,
+    /// Files to list with their SHA-256 (the matrices, scene, sensors, weather are added).
+    pub inputs: Vec<String>,
+    /// Tool version lines (`rdc 0.1.0`).
+    pub tools: Vec<String>,
+}
+
+impl ReportConfig {
+    /// Compute, draw and write the page.
+    pub fn run(&self, note: &dyn Fn(&str)) -> Result<()> {
+        let a = &self.annual;
+        a.validate()?;
+        let pts = a.pts.as_deref().ok_or_else(|| {
+            Error::Usage("report: the maps need the sensor positions (--pts FILE)".into())
+        })?;
+        let study = a.study(note)?;
+        let res = &study.res;
+        let t = &a.thresholds;
+        let subtitle = a.subtitle(&study);
+        let xy = plan_xy(study.positions.as_deref().unwrap_or(&[]));
+        let plan = load_plan(a.figures.scene.as_deref(), &xy)?;
+        let mut page = html::Page::new(&self.title, &subtitle);
+        let mut warnings: Vec<String> = res.notes.iter().skip(1).cloned().collect();
+        if !res.with_ase {
+            warnings.push(format!("ASE not computed: {}", crate::ASE_REFUSAL));
+        }
+        if a.figures.scene.is_none() {
+            warnings.push("no scene given (--scene): maps show no room outline or windows".into());
+        }
+        // Room metrics.
+        let cols = column_names(res.with_ase);
+        let mut rows = Vec::new();
+        for (k, c) in cols.iter().enumerate() {
+            let info = metric_info(c, t);
+            let what = match *c {
+                "sDA" => format!("share of sensors with DA ≥ {} %", t.sda_percent),
+                "ASE" => format!(
+                    "share of sensors with direct sun > {} lx for > {} h",
+                    t.ase_lux, t.ase_hours
+                ),
+                "TAI_klxh" => "mean over sensors (seed Eq. 2.2)".into(),
+                _ => "mean over sensors".into(),
+            };
+            let unit = match *c {
+                "TAI_klxh" => "klx·h",
+                "ASE_h" => "h",
+                "sDA" | "ASE" => "% of sensors",
+                _ => "% of occupied hours",
+            };
+            rows.push(vec![
+                info.title,
+                format!("{:.*}", info.decimals, res.room[k]),
+                unit.into(),
+                what,
+            ]);
+        }
+        let mut body = html::table(&["metric", "room", "unit", "room value is"], &rows, &[1]);
+        body += &format!(
+            "<p>{} sensors, {} occupied time steps ({} h); {}.</p>",
+            res.sensors.len(),
+            res.occupied_steps,
+            report::fmt_num(res.occupied_hours),
+            html::escape(res.notes.first().map_or("", String::as_str))
+        );
+        page.section("metrics", "Room metrics", &body);
+        // Maps.
+        let mut maps = String::from("<div class=\"grid\">");
+        for c in &cols {
+            let vals = AnnualConfig::column(res, c)?;
+            let spec = a.map_spec(c, &subtitle);
+            let png = plot::encode(
+                &MapFigure::new(&xy, &vals, &spec, &plan)?,
+                plot::Format::Png,
+            )?;
+            maps += &html::figure_png(
+                &png,
+                &format!("map of {c}"),
+                &format!(
+                    "{} on its fixed scale {}–{}",
+                    spec.title, spec.range.0, spec.range.1
+                ),
+            );
+        }
+        maps += "</div>";
+        page.section("maps", "Maps", &maps);
+        // Temporal map and distributions.
+        let mut figs = String::from("<div class=\"grid\">");
+        if let Some(fig) = a.temporal_figure(&study, &subtitle) {
+            fig.check()?;
+            if fig.stamps.len() == fig.values.len() {
+                figs += &html::figure_png(
+                    &plot::encode(&fig, plot::Format::Png)?,
+                    "temporal map",
+                    &fig.title,
+                );
+            } else {
+                warnings
+                    .push("temporal map left out: the time stamps do not match the columns".into());
+            }
+        }
+        for c in ["DA", "TAI_klxh"] {
+            let vals = AnnualConfig::column(res, c)?;
+            let fig = a.cdf_figure(c, &vals, &subtitle);
+            figs += &html::figure_png(
+                &plot::encode(&fig, plot::Format::Png)?,
+                &format!("distribution of {c}"),
+                &fig.title,
+            );
+        }
+        figs += "</div>";
+        page.section("time", "Through the year and over the floor", &figs);
+        // Per-sensor table.
+        let mut headers = vec!["sensor", "x", "y", "z"];
+        headers.extend(cols.iter().copied());
+        let pos = study.positions.as_deref().unwrap_or(&[]);
+        let srows: Vec<Vec<String>> = res
+            .sensors
+            .iter()
+            .enumerate()
+            .map(|(i, s)| {
+                let mut r = vec![(i + 1).to_string()];
+                let o = pos.get(i).map_or([f64::NAN; 3], |p| p.org);
+                r.extend(o.iter().map(|v| format!("{v:.2}")));
+                for (k, v) in s.values().iter().enumerate() {
+                    let d = metric_info(cols[k], t).decimals;
+                    r.push(format!("{v:.d$}"));
+                }
+                r
+            })
+            .collect();
+        let numeric: Vec<usize> = (0..headers.len()).collect();
+        page.section(
+            "sensors",
+            "Per-sensor metrics",
+            &format!(
+                "<p>Sensors are numbered from 1 in matrix row order (as in metrics.tsv).</p><div class=\"scroll\">{}</div>",
+                html::table(&headers, &srows, &numeric)
+            ),
+        );
+        // Settings.
+        let mut set = self.settings.clone();
+        set.push((
+            "occupancy".into(),
+            res.notes.first().cloned().unwrap_or_default(),
+        ));
+        set.push((
+            "thresholds".into(),
+            report::header_lines(&a.illum, res, t)
+                .get(2)
+                .cloned()
+                .unwrap_or_default()
+                .trim_start_matches("thresholds: ")
+                .to_string(),
+        ));
+        if let Some(w) = &a.schedule.weather {
+            let wx = crate::formats::weather::Weather::read_path(w)?;
+            let s = &wx.site;
+            set.push(("weather file".into(), w.clone()));
+            set.push((
+                "site".into(),
+                format!(
+                    "{}, {}: latitude {:.3}° N, longitude {:.3}° E, time-zone meridian {:.1}° E,                      elevation {:.0} m; {} steps",
+                    s.name,
+                    s.country,
+                    s.latitude_deg_n,
+                    s.longitude_deg_e,
+                    s.meridian_deg_e,
+                    s.elevation_m,
+                    wx.steps.len()
+                ),
+            ));
+        }
+        set.push((
+            "figures".into(),
+            format!(
+                "palette {}; fixed scales per metric (TAI 0–{} klx·h, percentages 0–100 %, ASE_h 0–{} h);                  north = +Y (Radiance convention)",
+                a.figures.palette.name(),
+                TAI_SCALE_KLXH,
+                ASE_H_SCALE
+            ),
+        ));
+        page.section("settings", "Settings", &html::definitions(&set));
+        // Provenance.
+        let mut inputs: Vec<String> = Vec::new();
+        for f in [
+            Some(&a.illum),
+            a.direct_sun.as_ref(),
+            Some(&pts.to_string()),
+            a.schedule.weather.as_ref(),
+            a.figures.scene.as_ref(),
+        ]
+        .into_iter()
+        .flatten()
+        .chain(&self.inputs)
+        {
+            if f != "-" && !inputs.contains(f) {
+                inputs.push(f.clone());
+            }
+        }
+        let mut tools = self.tools.clone();
+        tools.push(format!(
+            "rmetrics {} (this report)",
+            env!("CARGO_PKG_VERSION")
+        ));
+        page.section(
+            "provenance",
+            "Provenance",
+            &html::provenance(&inputs, &tools, &self.commands)?,
+        );
+        // Warnings: values beyond the fixed scales.
+        for c in &cols {
+            let info = metric_info(c, t);
+            let (lo, hi) = a.figures.range.unwrap_or(info.scale);
+            let vals = AnnualConfig::column(res, c)?;
+            let over = vals.iter().filter(|v| **v > hi).count();
+            let under = vals.iter().filter(|v| **v < lo).count();
+            if over + under > 0 {
+                warnings.push(format!(
+                    "{c}: {over} sensors above and {under} below the map scale {lo}–{hi} (drawn in the end colours)"
+                ));
+            }
+        }
+        page.section("warnings", "Warnings", &html::warnings(&warnings));
+        let text = page.render();
+        write_atomically(Path::new(&self.html), |w| {
+            w.write_all(text.as_bytes())
+                .map_err(|e| Error::io(&self.html, e))
         })
     }
 }
@@ -316,7 +890,29 @@ impl MelanopicConfig {
             } else {
                 sums.iter().map(|s| s.mean_medi).collect()
             };
-            write_map(png, &xy, &vals)?;
+            let days = stamps.is_some();
+            let spec = MapSpec {
+                title: if days {
+                    format!(
+                        "Days with m-EDI ≥ {} lx for {} h of {}–{} h",
+                        self.rule.threshold, self.rule.min_hours, self.rule.start, self.rule.end
+                    )
+                } else {
+                    "Mean melanopic EDI over lit steps (CIE S 026)".into()
+                },
+                subtitle: format!("{}: {} sensors", self.input, xy.len()),
+                unit: if days {
+                    "days (% of days)".into()
+                } else {
+                    "m-EDI (lx)".into()
+                },
+                range: if days { (0.0, 100.0) } else { (0.0, 1000.0) },
+                fixed: true,
+                palette: Palette::Viridis,
+                values: false,
+                decimals: 1,
+            };
+            plot::write(&MapFigure::new(&xy, &vals, &spec, &Plan::default())?, png)?;
         }
         Ok(())
     }

@@ -10,7 +10,10 @@
 //! - [`schedule`]: column time stamps (from the weather file or `--hours`) and occupancy.
 //! - [`annual`]: TAI (seed Eq. 2.2 and 4.1), UDI, DA, sDA, ASE with their conventions.
 //! - [`compare`]: PE, MAPE, RMSE between model variants (seed Appendix A, Eq. A.1-A.3).
-//! - [`map`]: falsecolor PNG of one metric over the sensor grid's floor plan.
+//! - [`map`]: the plan map of one metric (room outline, fixed scale, PNG or SVG).
+//! - [`figures`]: temporal map (day x hour) and the distribution over the floor.
+//! - [`plot`]: what every figure shares (font, palettes, PNG/SVG output).
+//! - [`html`]: the self-contained HTML report frame; [`config::ReportConfig`] the study report.
 //! - [`report`]: the TSV and JSON outputs.
 //! - [`config`]: what `rmetrics` runs (annual metrics, melanopic, compare) as typed configs.
 
@@ -20,8 +23,11 @@ use rdaylight_formats as formats;
 pub mod annual;
 pub mod compare;
 pub mod config;
+pub mod figures;
+pub mod html;
 pub mod map;
 pub mod melanopic;
+pub mod plot;
 pub mod report;
 pub mod schedule;
 
@@ -145,9 +151,21 @@ pub struct Results {
 /// Compute every metric, streaming `illum` (and `direct` in lockstep, same shape).
 pub fn compute<R: BufRead, D: BufRead>(
     illum: &mut LuxRows<R>,
+    direct: Option<&mut LuxRows<D>>,
+    schedule: &Schedule,
+    t: &Thresholds,
+) -> Result<Results> {
+    compute_observed(illum, direct, schedule, t, &mut |_| {})
+}
+
+/// [`compute`], handing every illuminance row (lux, one sensor) to `on_row` as it streams
+/// past (the temporal map keeps what it needs of them).
+pub fn compute_observed<R: BufRead, D: BufRead>(
+    illum: &mut LuxRows<R>,
     mut direct: Option<&mut LuxRows<D>>,
     schedule: &Schedule,
     t: &Thresholds,
+    on_row: &mut dyn FnMut(&[f64]),
 ) -> Result<Results> {
     t.check()?;
     let ncols = illum.ncols();
@@ -184,6 +202,7 @@ pub fn compute<R: BufRead, D: BufRead>(
     let mut drow = vec![0.0; ncols];
     let mut sensors = Vec::new();
     while illum.next_row(&mut row)? {
+        on_row(&row);
         let d = match direct.as_deref_mut() {
             Some(d) => {
                 if !d.next_row(&mut drow)? {

@@ -282,6 +282,8 @@ pub fn reduce<R: BufRead>(
 
 /// The per-sensor summary as TSV: `sensor [x y z] mean_mEDI_lx mean_Ev_lx mean_MP
 /// lit_steps steps_mEDI_ge_T share_ge_T_percent` (means over steps with light).
+/// Sensors are numbered from 1 in matrix row order, as in rmetrics' `metrics.tsv`, rtrace's
+/// and rcontrib's row order and every rdaylight table.
 pub fn write_summary(
     w: &mut dyn std::io::Write,
     name: &str,
@@ -304,7 +306,8 @@ pub fn write_summary(
         let share = 100.0 * x.steps_above as f64 / x.lit_steps.max(1) as f64;
         writeln!(
             w,
-            "{i}{p}\t{:.2}\t{:.2}\t{:.4}\t{}\t{}\t{share:.1}\t{}\t{}\t{:.1}",
+            "{}{p}\t{:.2}\t{:.2}\t{:.4}\t{}\t{}\t{share:.1}\t{}\t{}\t{:.1}",
+            i + 1,
             x.mean_medi,
             x.mean_ev,
             x.mean_mp,

@@ -453,6 +453,19 @@ fn read_text(path: &str) -> Result<String> {
 
 impl ScheduleSpec {
     /// Build the schedule for a matrix with `ncols` columns, checking the counts agree.
+    /// The columns' time stamps from `--weather` or `--hours` (none without either): what
+    /// the temporal map places on its day and hour axes.
+    pub fn stamps(&self) -> Result<Option<Vec<Stamp>>> {
+        if let Some(w) = &self.weather {
+            let text = read_text(w)?;
+            Ok(Some(stamps_from_weather(&Weather::parse(&text, w)?)))
+        } else if let Some(h) = &self.hours {
+            Ok(Some(parse_hours(&read_text(h)?, h)?))
+        } else {
+            Ok(None)
+        }
+    }
+
     pub fn build(&self, ncols: usize, matrix: &str) -> Result<Schedule> {
         if self.weather.is_some() && self.hours.is_some() {
             return Err(Error::Usage(

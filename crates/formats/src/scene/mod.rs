@@ -87,6 +87,9 @@ impl Default for LoadOptions {
     }
 }
 
+/// Material types that make a surface glazing (a window, skylight or glazed door).
+pub const GLAZING_TYPES: [&str; 5] = ["glass", "dielectric", "interface", "BSDF", "aBSDF"];
+
 /// An `alias` object's origin: the object it copied.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Alias {
@@ -230,6 +233,13 @@ impl Scene {
     pub fn material_of(&self, index: usize) -> Option<usize> {
         self.modifier_chain(index)
             .find(|&m| self.objects[m].class() == Class::Material)
+    }
+
+    /// Whether surface `index` is glazing: its material is one of [`GLAZING_TYPES`] (what
+    /// rglod keeps in the permanent shell and rmetrics draws as windows on maps).
+    pub fn is_glazing(&self, index: usize) -> bool {
+        self.material_of(index)
+            .is_some_and(|m| GLAZING_TYPES.contains(&self.objects[m].type_name()))
     }
 
     /// The patterns, textures and mixtures that modify a material, nearest first (the chain
