@@ -201,8 +201,37 @@ fn report_opens_in_a_headless_browser() {
         "maps, temporal map and distributions: {images}"
     );
 
-    // A copy with a checker script: counts of images and broken images, script errors.
-    let probe = d.path().join("probe.html");
+    let img = check_in_browser(&bin, d.path(), &text, &html, images, "report_browser.png");
+    assert_eq!(img.width(), 1280);
+    // The header's colour (#1f3b57) fills the top band: the page was laid out with its CSS.
+    assert_eq!(img.get_pixel(640, 10).0, [0x1f, 0x3b, 0x57]);
+    // Figures drew: viridis colours appear somewhere on the first screen.
+    let viridis = img
+        .pixels()
+        .filter(|p| {
+            let [r, g, b] = p.0;
+            g > 150 && b < 140 && r < 120
+        })
+        .count();
+    assert!(
+        viridis > 100,
+        "no map colours in the screenshot ({viridis})"
+    );
+}
+
+/// Open `html` (whose text is `text`, with `images` <img> elements) in headless chromium:
+/// a copy with a checker script must see every image loaded and no script error, the
+/// console must stay clean, and a screenshot of the page itself is kept as `name` under
+/// target/test-artefacts/ and returned.
+fn check_in_browser(
+    bin: &Path,
+    dir: &Path,
+    text: &str,
+    html: &Path,
+    images: usize,
+    name: &str,
+) -> image::RgbImage {
+    let probe = dir.join(format!("probe-{name}.html"));
     let checker = "<script>window.__errors=0;window.addEventListener('error',function(){window.__errors++});\
         window.addEventListener('load',function(){var im=document.images,b=0;\
         for(var i=0;i<im.length;i++){if(!im[i].complete||im[i].naturalWidth===0)b++;}\
@@ -214,9 +243,13 @@ fn report_opens_in_a_headless_browser() {
         text.replace("</body>", &format!("{checker}</body>")),
     )
     .unwrap();
-    let profile = d.path().join("profile");
     let url = format!("file://{}", probe.display());
-    let (dom, err) = browse(&bin, &profile, &["--dump-dom".into()], &url);
+    let (dom, err) = browse(
+        bin,
+        &dir.join(format!("profile-{name}")),
+        &["--dump-dom".into()],
+        &url,
+    );
     assert!(
         dom.contains(&format!("data-images=\"{images}\"")),
         "the checker ran and saw every image: {}",
@@ -236,34 +269,88 @@ fn report_opens_in_a_headless_browser() {
     // The report itself, as a reader sees it: a screenshot kept as an artefact.
     let art = repo().join("target/test-artefacts");
     std::fs::create_dir_all(&art).unwrap();
-    let shot = art.join("report_browser.png");
+    let shot = art.join(name);
     let _ = std::fs::remove_file(&shot);
     let url = format!("file://{}", html.display());
     // A fresh profile: chromium's crash handler may still hold the first one.
     let (_, err) = browse(
-        &bin,
-        &d.path().join("profile2"),
+        bin,
+        &dir.join(format!("profile2-{name}")),
         &[format!("--screenshot={}", shot.display())],
         &url,
     );
     let errs = console_errors(&err);
     assert!(errs.is_empty(), "console errors: {errs:#?}");
-    let img = image::open(&shot)
+    image::open(&shot)
         .unwrap_or_else(|e| panic!("screenshot {}: {e}", shot.display()))
-        .to_rgb8();
-    assert_eq!(img.width(), 1280);
-    // The header's colour (#1f3b57) fills the top band: the page was laid out with its CSS.
-    assert_eq!(img.get_pixel(640, 10).0, [0x1f, 0x3b, 0x57]);
-    // Figures drew: viridis colours appear somewhere on the first screen.
-    let viridis = img
-        .pixels()
-        .filter(|p| {
-            let [r, g, b] = p.0;
-            g > 150 && b < 140 && r < 120
-        })
-        .count();
-    assert!(
-        viridis > 100,
-        "no map colours in the screenshot ({viridis})"
+        .to_rgb8()
+}
+
+/// rcalib's report shares the frame: a before/after comparison page (made from a small
+/// synthetic comparison, no simulation) opens cleanly and is laid out with the frame's CSS.
+#[test]
+fn rcalib_report_opens_in_a_headless_browser() {
+    use rdaylight::calib::compare::{Comparison, SensorRow, StepRow};
+    use rdaylight::calib::stats::Stats;
+    let Some(bin) = chromium() else {
+        eprintln!("report_browser: skipped (RDAYLIGHT_SKIP_BROWSER)");
+        return;
+    };
+    let d = tmpdir();
+    let comparison = |label: &str, bias: f64| {
+        let pairs: Vec<(f64, f64)> = (1..=20)
+            .map(|k| (100.0 * k as f64 * (1.0 + bias), 100.0 * k as f64))
+            .collect();
+        Comparison {
+            label: label.into(),
+            overall: Stats::of(&pairs),
+            sensors: (0..4)
+                .map(|i| SensorRow {
+                    id: format!("s{i}"),
+                    x: 0.5 + i as f64,
+                    y: 1.0,
+                    z: 0.8,
+                    depth: 0.5 + i as f64,
+                    stats: Stats::of(&pairs[i * 5..i * 5 + 5]),
+                })
+                .collect(),
+            steps: (0..5)
+                .map(|t| StepRow {
+                    month: 6,
+                    day: 1 + t,
+                    hour: 12.0,
+                    sun_altitude: 50.0,
+                    clearness: 1.0 + t as f64,
+                    dni: 500.0,
+                    dhi: 100.0,
+                    stats: Stats::of(&pairs[t as usize * 4..t as usize * 4 + 4]),
+                })
+                .collect(),
+            scatter: pairs.iter().map(|p| (p.1, p.0, 0, 0)).collect(),
+            windows: vec![[0.0, 0.0, 4.0, 0.0]],
+            outline: vec![
+                [0.0, 0.0, 4.0, 0.0],
+                [4.0, 0.0, 4.0, 2.0],
+                [4.0, 2.0, 0.0, 2.0],
+                [0.0, 2.0, 0.0, 0.0],
+            ],
+        }
+    };
+    let (before, after) = (
+        comparison("model.rad", 0.2),
+        comparison("calibrated.rad", 0.01),
     );
+    let input = d.path().join("model.rad");
+    std::fs::write(&input, "void plastic floor_mat 0 0 5 .2 .2 .2 0 0\n").unwrap();
+    let text =
+        rdaylight::calib::report::html(&[&before, &after], None, &[input.display().to_string()])
+            .unwrap();
+    let html = d.path().join("rcalib.html");
+    std::fs::write(&html, &text).unwrap();
+    assert!(text.contains("<header><h1>rcalib compare: the model before and after</h1>"));
+    let (hash, _) = rdaylight::metrics::html::sha256_file(&input.display().to_string()).unwrap();
+    assert!(text.contains(&hash), "the model's SHA-256 is listed");
+    assert!(text.contains(">N</text>"), "the plans have a north arrow");
+    let img = check_in_browser(&bin, d.path(), &text, &html, 0, "rcalib_report_browser.png");
+    assert_eq!(img.get_pixel(640, 10).0, [0x1f, 0x3b, 0x57]);
 }

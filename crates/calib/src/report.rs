@@ -216,30 +216,57 @@ fn figures(comparisons: &[&Comparison]) -> Vec<Vec<String>> {
     rows
 }
 
-/// The HTML report of one or two comparisons and an optional explanation.
-pub fn html(comparisons: &[&Comparison], explanation: Option<&Explanation>) -> String {
-    let mut h = String::from(
-        "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>rcalib report</title>\n\
-         <style>body{font-family:sans-serif;margin:1em}table{border-collapse:collapse}\
-         td,th{border:1px solid #ccc;padding:2px 6px;text-align:right}\
-         .row{display:flex;gap:1em}.col{flex:1}</style></head><body>\n\
-         <h1>rcalib: model against measurements</h1>\n",
+/// The HTML report of one or two comparisons and an optional explanation, on the shared
+/// report frame (`rdaylight_metrics::html`: header, navigation, sections, provenance).
+/// `inputs`: the files the comparison read (listed with their SHA-256).
+pub fn html(
+    comparisons: &[&Comparison],
+    explanation: Option<&Explanation>,
+    inputs: &[String],
+) -> crate::error::Result<String> {
+    use rdaylight_metrics::html::{Page, provenance, table};
+    let title = match explanation {
+        Some(_) => "rcalib explain: which effect the model is missing",
+        None if comparisons.len() > 1 => "rcalib compare: the model before and after",
+        None => "rcalib compare: model against measurements",
+    };
+    let mut page = Page::new(
+        title,
+        &comparisons
+            .iter()
+            .map(|c| c.label.clone())
+            .collect::<Vec<_>>()
+            .join(" | "),
     );
-    h += "<table><tr><th>model</th><th>n</th><th>MBE_rel %</th><th>RMSE_rel %</th><th>sigma_rel %</th><th>r</th><th>MAE lx</th></tr>\n";
-    for c in comparisons {
-        let s = &c.overall;
-        h += &format!(
-            "<tr><td style=\"text-align:left\">{}</td><td>{}</td><td>{:+.1}</td><td>{:.1}</td><td>{:.1}</td><td>{:.3}</td><td>{:.0}</td></tr>\n",
-            esc(&c.label),
-            s.n,
-            s.mbe_rel,
-            s.rmse_rel,
-            s.sigma_rel,
-            s.r,
-            s.mae
-        );
-    }
-    h += "</table>\n<p>Per reading, the relative error is <i>e</i> = (<i>s</i> - \
+    let rows: Vec<Vec<String>> = comparisons
+        .iter()
+        .map(|c| {
+            let s = &c.overall;
+            vec![
+                c.label.clone(),
+                s.n.to_string(),
+                format!("{:+.1}", s.mbe_rel),
+                format!("{:.1}", s.rmse_rel),
+                format!("{:.1}", s.sigma_rel),
+                format!("{:.3}", s.r),
+                format!("{:.0}", s.mae),
+            ]
+        })
+        .collect();
+    let mut h = table(
+        &[
+            "model",
+            "n",
+            "MBE_rel %",
+            "RMSE_rel %",
+            "sigma_rel %",
+            "r",
+            "MAE lx",
+        ],
+        &rows,
+        &[1, 2, 3, 4, 5, 6],
+    );
+    h += "\n<p>Per reading, the relative error is <i>e</i> = (<i>s</i> - \
           <i>m</i>) / <i>m</i> (simulated <i>s</i>, measured <i>m</i>; readings under 1 lx are \
           left out). MBE_rel = 100 mean(<i>e</i>), the bias; RMSE_rel = 100 \
           &radic;mean(<i>e</i>&sup2;), the whole error; sigma_rel = 100 std(<i>e</i>), the \
@@ -247,15 +274,18 @@ pub fn html(comparisons: &[&Comparison], explanation: Option<&Explanation>) -> S
           Pearson's correlation of <i>s</i> and <i>m</i>. These are Eqs. 6.1-6.4 of the seed, \
           the dissertation this project grew from (N. Forouzandeh, <i>Modelling Daylight for \
           Existing Indoor Spaces</i>, TU Delft, 2026, chapter 6).</p>\n";
+    page.section("errors", "Errors", &h);
+    let mut h = String::new();
     for row in figures(comparisons) {
-        h += "<div class=\"row\">";
+        h += "<div class=\"grid\">";
         for f in row {
-            h += &format!("<div class=\"col\">{f}</div>");
+            h += &format!("<figure>{f}</figure>");
         }
         h += "</div>\n";
     }
+    page.section("figures", "Where the model fails", &h);
     if let Some(e) = explanation {
-        h += &format!("<h2>Explain</h2>\n<p><b>{}</b></p>\n", esc(&e.verdict));
+        let mut h = format!("<p><b>{}</b></p>\n", esc(&e.verdict));
         if !e.selected.is_empty() {
             h += "<h3>Selected effects (re-fitted together)</h3>\n<table><tr><th>effect</th>\
                   <th style=\"text-align:left\">parameters</th><th>+- (first)</th>\
@@ -299,15 +329,26 @@ pub fn html(comparisons: &[&Comparison], explanation: Option<&Explanation>) -> S
             );
         }
         h += &format!("</table>\n<p>{}</p>\n", esc(SELECTION_RULE));
+        page.section("explain", "Explain", &h);
     } else if comparisons.len() == 1 {
-        h += "<h2>Next</h2>\n<p>To learn which physical effect the model is missing, run \
+        let h = "<p>To learn which physical effect the model is missing, run \
               <code>rcalib explain</code> with the same arguments and <code>--report \
               explain.html --effects-out effects.txt</code>; then <code>rcalib apply MODEL \
               --sensors SENSORS $(cat effects.txt) &gt; calibrated.rad</code> and <code>rcalib \
               compare calibrated.rad --before MODEL ...</code> to see the error fall. A residual \
               at the noise level (RMSE_rel close to the readings' own noise) needs nothing.</p>\n";
+        page.section("next", "Next", h);
     }
-    h + "</body></html>\n"
+    page.section(
+        "provenance",
+        "Provenance",
+        &provenance(
+            inputs,
+            &[format!("rcalib {}", env!("CARGO_PKG_VERSION"))],
+            &[],
+        )?,
+    );
+    Ok(page.render())
 }
 
 fn esc(s: &str) -> String {

@@ -35,6 +35,19 @@ pub struct Files {
     pub columns: Columns,
 }
 
+impl Files {
+    /// Every file read, for the reports' provenance.
+    pub fn paths(&self) -> Vec<String> {
+        let mut v = self.scene.clone();
+        v.extend([
+            self.sensors.clone(),
+            self.weather.clone(),
+            self.measured.clone(),
+        ]);
+        v
+    }
+}
+
 /// Where the HTML report and the JSON data go (each optional).
 #[derive(Debug, Clone, Default)]
 pub struct Reports {
@@ -196,9 +209,14 @@ fn to_json<T: serde::Serialize>(doc: &T) -> Result<String> {
     serde_json::to_string_pretty(doc).map_err(|e| Error::Usage(format!("JSON: {e}")))
 }
 
-fn write_reports(comps: &[&Comparison], ex: Option<&Explanation>, to: &Reports) -> Result<()> {
+fn write_reports(
+    comps: &[&Comparison],
+    ex: Option<&Explanation>,
+    to: &Reports,
+    inputs: &[String],
+) -> Result<()> {
     if let Some(p) = &to.html {
-        write_file(p, &report::html(comps, ex))?;
+        write_file(p, &report::html(comps, ex, inputs)?)?;
     }
     if let Some(p) = &to.json {
         let doc = report::Json {
@@ -252,7 +270,9 @@ pub fn compare_run(c: &Compare, out: &mut dyn Write) -> Result<()> {
         .map_err(stdout_err)?;
     }
     let comps: Vec<&Comparison> = before.iter().chain(std::iter::once(&after)).collect();
-    write_reports(&comps, None, &c.reports)
+    let mut inputs = c.files.paths();
+    inputs.extend(c.before.iter().cloned());
+    write_reports(&comps, None, &c.reports, &inputs)
 }
 
 impl Explain {
@@ -293,7 +313,7 @@ pub fn explain_run(x: &Explain, out: &mut dyn Write) -> Result<()> {
     }
     let c = compare(&m, &m.predict(&[]), &x.files.scene.join(" "));
     let c2 = compare(&m, &ex.final_sim, "with the selected effects (predicted)");
-    write_reports(&[&c, &c2], Some(&ex), &x.reports)
+    write_reports(&[&c, &c2], Some(&ex), &x.reports, &x.files.paths())
 }
 
 /// Effect specs parsed against the sensors and the room's windows.

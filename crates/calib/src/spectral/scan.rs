@@ -269,13 +269,12 @@ fn esc(s: &str) -> String {
 
 /// A self-contained HTML page with Table 6.3 and Table 6.4 (and the explanation text).
 pub fn html(s: &SpectralScan, explanation: Option<&str>) -> String {
-    let mut h = String::from(
-        "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>rcalib spectral</title>\n\
-         <style>body{font-family:sans-serif;margin:1em}table{border-collapse:collapse}\
-         td,th{border:1px solid #ccc;padding:2px 6px;text-align:right}\
-         .best{font-weight:bold}</style></head><body>\n\
-         <h1>rcalib: spectral calibration (seed chapter 6)</h1>\n",
+    use rdaylight_metrics::html::Page;
+    let mut page = Page::new(
+        "rcalib spectral: calibration with spectral readings",
+        "the seed's chapter-6 window scan, Table 6.3 and Table 6.4",
     );
+    let mut h = String::new();
     h += &format!(
         "<h2>Window options</h2><p>MAE: Eq. 6.1 over the channels and time steps at the \
          control sensor {} ({}); r: spectral-shape Pearson correlation.</p>\n<table>\
@@ -319,14 +318,19 @@ pub fn html(s: &SpectralScan, explanation: Option<&str>) -> String {
         }
     }
     h += &format!(
-        "</table>\n<p>Selected {} (x{:.3}): <code>rcalib apply ... --effect {}</code></p>\n",
+        "</table>\n<p>Lowest MAE of the scan: {} (x{:.3}, <code>--effect {}</code>).{}</p>\n",
         s.options[s.best].name,
         s.options[s.best].factor,
-        esc(&s.effect)
+        esc(&s.effect),
+        if explanation.is_some() {
+            " The effects to apply are the explanation's, below."
+        } else {
+            " Apply it with <code>rcalib apply MODEL --sensors SENSORS --effect ...</code>."
+        }
     );
+    page.section("scan", "Window options and errors", &h);
     if let Some(t) = explanation {
-        h += &format!("<h2>Explain</h2><pre>{}</pre>\n", esc(t));
+        page.section("explain", "Explain", &format!("<pre>{}</pre>\n", esc(t)));
     }
-    h += "</body></html>\n";
-    h
+    page.render()
 }
