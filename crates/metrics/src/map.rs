@@ -593,7 +593,7 @@ fn vals_summary(values: &[f64]) -> String {
     } else {
         (v[v.len() / 2 - 1] + v[v.len() / 2]) / 2.0
     };
-    let step = nice_step(v[v.len() - 1] - v[0], 50).min(1.0).max(0.01);
+    let step = nice_step(v[v.len() - 1] - v[0], 50).clamp(0.01, 1.0);
     format!(
         "n = {}: min {}, median {}, max {}",
         values.len(),

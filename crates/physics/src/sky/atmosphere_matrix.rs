@@ -39,11 +39,18 @@
 //!   light. Here a missing cover is estimated from the Perez clearness `eps` of the record:
 //!   `c = 1 - ln(eps) / ln(6.2)`, clamped to 0..1 (overcast at `eps = 1`, clear from
 //!   Perez's last category, `eps >= 6.2`), a documented modelling choice.
-//! - **Per-record AOD** is rounded to 0.01, so a year needs a few dozen table sets, not one
-//!   per distinct value. gensdaymtx also keeps one table set per 0.01 (its file names
-//!   print the AOD with `%.2f`) but computes it with the first record's exact value that
-//!   falls in the bin, so its sky for a record depends on earlier records; `--aod` gives
-//!   one value for every record (the tests pass each fixture day's exact value).
+//! - **Per-record AOD.** gensdaymtx keeps one table set per 0.01 of AOD (its file names
+//!   print the AOD with `%.2f`) and computes it with the first record's exact value that
+//!   falls in the bin, so its sky for a record depends on earlier records, and a year of a
+//!   real EPW (London's AOD column spans 0.04-0.21) needs about twenty table sets, 20 s of
+//!   CPU each. Here the tables are computed only at the fixed depths [`AOD_NODES`] and each
+//!   record's column is interpolated linearly in AOD between the two bracketing nodes. The
+//!   column is normalised to the record's measured diffuse and direct light, linearly in
+//!   the radiances, so the blend keeps both normalisations exactly and only the sky's
+//!   shape and colour are interpolated; the error against the exact tables is measured by
+//!   `benches/atmosphere_aod.sh` (figures in `docs/performance.md`). `--aod` gives one
+//!   value for every record and uses its own tables (the tests pass each fixture day's
+//!   exact value), as does the default 0.115 for records without an AOD.
 //! - **Tables** are cached on disk by every input that changes them (see
 //!   [`super::atmosphere::cache`]); gensdaymtx keeps them in `<-p dir>/atmos_data` under a
 //!   name that leaves out the ground reflectance.
@@ -102,6 +109,40 @@ const NSUNS: usize = 4;
 /// about 20 s of CPU once, then cached).
 const MAX_TABLE_SETS: usize = 64;
 
+/// The aerosol optical depths whose tables a weather file's per-record AODs are
+/// interpolated between (module docs: *Per-record AOD*): denser where real AODs lie (most
+/// sites 0.02-0.5) and where the sky's colour changes fastest with AOD.
+pub const AOD_NODES: [f64; 10] = [0.0, 0.05, 0.1, 0.2, 0.3, 0.5, 0.8, 1.2, 2.0, 3.0];
+/// Largest per-record AOD taken from a weather file (larger ones, and missing ones, become
+/// the continental default).
+const AOD_MAX: f64 = 3.0;
+
+/// The tables a record's sky is made from: `(aod, weight)` pairs. One when its AOD is a
+/// node or is to be used exactly; else the three nodes nearest to it with quadratic
+/// Lagrange weights (they sum to 1, so the blend keeps the column's normalisation; a
+/// linear blend of the two bracketing nodes was 0.8-5.6 % off per band half-way between
+/// nodes, `benches/atmosphere_aod.sh`).
+fn aod_blend(s: &AtmosphereStep) -> Vec<(f64, f64)> {
+    let (aod, exact) = (s.aod, s.aod_exact);
+    if exact || AOD_NODES.iter().any(|&n| (n - aod).abs() < 1e-9) {
+        return vec![(aod, 1.0)];
+    }
+    let mut near: Vec<f64> = AOD_NODES.to_vec();
+    near.sort_by(|a, b| (a - aod).abs().total_cmp(&(b - aod).abs()));
+    near.truncate(3);
+    near.sort_by(f64::total_cmp);
+    near.iter()
+        .map(|&x| {
+            let w: f64 = near
+                .iter()
+                .filter(|&&y| y != x)
+                .map(|&y| (aod - y) / (x - y))
+                .product();
+            (x, w)
+        })
+        .collect()
+}
+
 /// What one weather record contributes to its column.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct AtmosphereStep {
@@ -115,8 +156,11 @@ pub struct AtmosphereStep {
     pub difhor: f64,
     /// Cloud cover 0..1 (see the module documentation for where it comes from).
     pub cloud_cover: f64,
-    /// Aerosol optical depth of the record's tables.
+    /// Aerosol optical depth of the record.
     pub aod: f64,
+    /// The sky uses the tables of `aod` itself (given with `--aod`, or the default for a
+    /// record without one) rather than interpolating between [`AOD_NODES`].
+    pub aod_exact: bool,
 }
 
 /// Options of the matrix (gensdaymtx's letters in the binary).
@@ -195,11 +239,13 @@ pub fn atmosphere_steps(
                 Some(c) if (0.0..=1.0).contains(&c) => c,
                 _ => cloud_cover_from_clearness(v.state.map_or(1.0, |s| s.epsilon)),
             };
-            let aod = opts.aod.unwrap_or(match ws.aod {
-                // 0.01 steps, as gensdaymtx's table cache (module docs).
-                Some(a) if (0.0..9.0).contains(&a) => (a * 100.0).round() / 100.0,
-                _ => super::atmosphere::AOD_CONTINENTAL,
-            });
+            // The record's own value: its sky is interpolated between the tables of the
+            // nearest AOD_NODES (module docs).
+            let (aod, aod_exact) = match (opts.aod, ws.aod) {
+                (Some(a), _) => (a, true),
+                (None, Some(a)) if (0.0..=AOD_MAX).contains(&a) => (a, false),
+                _ => (super::atmosphere::AOD_CONTINENTAL, true),
+            };
             Some(AtmosphereStep {
                 step: i,
                 month: t.month,
@@ -208,6 +254,7 @@ pub fn atmosphere_steps(
                 difhor: difhor.max(0.0),
                 cloud_cover,
                 aod,
+                aod_exact,
             })
         })
         .collect()
@@ -337,23 +384,25 @@ pub fn atmosphere_matrix(
             opts.ground_reflectance
         )));
     }
-    let key = |s: &AtmosphereStep| (Climate::for_site(site.latitude_deg_n, s.month), s.aod);
+    let climate_of = |s: &AtmosphereStep| Climate::for_site(site.latitude_deg_n, s.month);
     let mut sets: Vec<(Climate, f64)> = Vec::new();
     for s in steps {
-        let k = key(s);
-        if !sets.contains(&k) {
-            sets.push(k);
+        for (aod, _) in aod_blend(s) {
+            let k = (climate_of(s), aod);
+            if !sets.contains(&k) {
+                sets.push(k);
+            }
         }
     }
     if sets.len() > MAX_TABLE_SETS {
         return Err(Error::Usage(format!(
-            "the weather file needs {} atmosphere table sets (climates x distinct AODs, each a \
+            "the weather file needs {} atmosphere table sets (climates x AODs, each a \
              long precomputation); give one AOD with --aod",
             sets.len()
         )));
     }
     let weights = rebin_weights(ch);
-    let mut data = vec![Vec::new(); steps.len()];
+    let mut tables = Vec::with_capacity(sets.len());
     let mut used = Vec::new();
     for &(climate, aod) in &sets {
         let atm = Atmosphere {
@@ -363,40 +412,53 @@ pub fn atmosphere_matrix(
             mie: mie.clone(),
             scattering_order: 4,
         };
-        let (tables, status) = load_or_compute_reporting(cache_dir, &atm, progress)?;
-        let this_set = steps.iter().filter(|s| key(s) == (climate, aod)).count();
-        let stage = Stage::new(
-            progress,
-            &format!("sky matrix ({}, AOD {aod})", climate.tag()),
-            Some(this_set as u64),
-            "time steps",
-        );
+        let (t, status) = load_or_compute_reporting(cache_dir, &atm, progress)?;
+        tables.push(t);
         used.push(TableUse {
             climate,
             aod,
             status,
         });
-        let cols: Vec<(usize, Vec<f32>)> = steps
-            .par_iter()
-            .enumerate()
-            .filter(|(_, s)| key(s) == (climate, aod))
-            .map(|(j, s)| {
-                let col = column(&tables, s, patches, opts);
-                let mut v = Vec::with_capacity(col.len() * ch.ncomp);
-                for bands in &col {
-                    for w in &weights {
-                        v.push(bands.iter().zip(w).map(|(a, b)| a * b).sum::<f64>() as f32);
+    }
+    let stage = Stage::new(
+        progress,
+        "sky matrix",
+        Some(steps.len() as u64),
+        "time steps",
+    );
+    // Each column is the weighted sum of the columns of its tables. Every column is
+    // normalised to the record's measured diffuse and direct light, linearly in the
+    // radiances, so the blend keeps both normalisations.
+    let data: Vec<Vec<f32>> = steps
+        .par_iter()
+        .map(|s| {
+            let mut bands = vec![[0.0; NSSAMP]; patches.len()];
+            for (aod, w) in aod_blend(s) {
+                let i = sets
+                    .iter()
+                    .position(|k| *k == (climate_of(s), aod))
+                    .expect("every blend's set was collected above");
+                for (acc, c) in bands.iter_mut().zip(column(&tables[i], s, patches, opts)) {
+                    for k in 0..NSSAMP {
+                        acc[k] += w * c[k];
                     }
                 }
-                stage.advance(1);
-                (j, v)
-            })
-            .collect();
-        drop(stage);
-        for (j, v) in cols {
-            data[j] = v;
-        }
-    }
+            }
+            // Quadratic weights may be negative: a radiance never is.
+            for b in bands.iter_mut() {
+                b.iter_mut().for_each(|x| *x = x.max(0.0));
+            }
+            let mut v = Vec::with_capacity(bands.len() * ch.ncomp);
+            for b in &bands {
+                for wt in &weights {
+                    v.push(b.iter().zip(wt).map(|(a, x)| a * x).sum::<f64>() as f32);
+                }
+            }
+            stage.advance(1);
+            v
+        })
+        .collect();
+    drop(stage);
     Ok((
         AtmosphereMatrix {
             nrows: patches.len(),
@@ -440,6 +502,43 @@ pub fn native_channels() -> Channels {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn aod_blends_bracket_the_record_and_sum_to_one() {
+        let step = |aod: f64, aod_exact: bool| AtmosphereStep {
+            step: 0,
+            month: 6,
+            sun: [0.0, 0.0, 1.0],
+            dirnorm: 0.0,
+            difhor: 0.0,
+            cloud_cover: 0.0,
+            aod,
+            aod_exact,
+        };
+        assert_eq!(aod_blend(&step(0.125, true)), vec![(0.125, 1.0)]);
+        assert_eq!(aod_blend(&step(0.1, false)), vec![(0.1, 1.0)]);
+        let b = aod_blend(&step(0.16, false));
+        assert_eq!(
+            b.iter().map(|x| x.0).collect::<Vec<_>>(),
+            vec![0.05, 0.1, 0.2]
+        );
+        // Every record: three nodes around it whose weights sum to 1 and reproduce any
+        // quadratic in AOD exactly (so a linear or quadratic sky is interpolated exactly).
+        for k in 1..300 {
+            let a = k as f64 * 0.01 + 0.003;
+            let b = aod_blend(&step(a, false));
+            assert_eq!(b.len(), 3, "{a}: {b:?}");
+            assert!(b.iter().all(|x| AOD_NODES.contains(&x.0)), "{a}: {b:?}");
+            for f in [
+                |x: f64| 1.0 + 0.0 * x,
+                |x: f64| x,
+                |x: f64| 2.0 - x + 3.0 * x * x,
+            ] {
+                let got: f64 = b.iter().map(|x| f(x.0) * x.1).sum();
+                assert!((got - f(a)).abs() < 1e-9, "{a}: {b:?}");
+            }
+        }
+    }
 
     #[test]
     fn rebinning_native_bands_is_the_identity_and_keeps_white() {
