@@ -189,3 +189,14 @@ def test_mcop_study_equals_rmcop(tool, furnished, tmp_path):
     # Material draws spread the room TAI: the 5-95 % band is not a point.
     for c in ours["cells"]:
         assert c["room_tai"]["p5"] < c["room_tai"]["p95"]
+
+
+def test_point_values_equal_rdc(tool):
+    skies = REPO / "radiance-fixtures" / "skies"
+    scene = [str(ROOM / "room.rad"), str(skies / "overcast_gensky.rad"), str(skies / "skyglow.rad")]
+    out = tool("rdc", "-I", "-ab", "1", "-ad", "32", "-s", "3", "-fad", *scene,
+               stdin=SENSOR_TEXT).stdout
+    ours = rd.point_values(scene, SENSORS, ab=1, ad=32, seed=3)
+    assert ours.shape == (3, 3)
+    np.testing.assert_array_equal(ours, read_matrix(out)[:, 0, :])
+    assert (ours > 0).all()
