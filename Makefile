@@ -14,12 +14,13 @@ OUT      ?= out
 # Real Radiance 6 for interop tests and reference fixtures (pinned for reproducibility).
 PYRADIANCE ?= pyradiance==1.3.1
 
-BIN      := $(or $(CARGO_TARGET_DIR),target)/release
+TARGET   := $(or $(CARGO_TARGET_DIR),target)
+BIN      := $(TARGET)/release
 ROOM     := examples/room
 EPW      := examples/weather/GBR_London.Gatwick.037760_IWEC.epw
 FIX      := radiance-fixtures
 
-.PHONY: all example radiance-example build test radiance browser fixtures clean install uninstall docs
+.PHONY: all example radiance-example build test python-test radiance browser fixtures clean install uninstall docs
 
 all: example
 
@@ -134,6 +135,25 @@ test: radiance browser
 	@if [ -z "$$RDAYLIGHT_SKIP_SLURM" ]; then bash examples/slurm/start.sh || \
 	    echo "make test: Slurm did not start; tests/slurm.rs will fail saying why"; fi
 	RDAYLIGHT_SLURM=1 $(CARGO) test --workspace
+	@$(MAKE) --no-print-directory python-test
+
+# The Python package (crates/python, PyO3) against the command-line tools `cargo test` just
+# built (python/tests, about 15 s). cargo builds the module with the test profile and the
+# features `cargo test --workspace` resolves (--lib --tests: dev-dependencies included), so
+# only the bindings compile (pyo3, numpy, the module: about 1 min the first time), then it
+# is staged with the package's .py files under the target directory; numpy and pytest come
+# from PyPI when missing. (`maturin develop --profile test` would build the module as a test
+# harness; `pip install .` is the user's install, in release mode.)
+PYSTAGE  := $(TARGET)/python-test
+PYLIB    := lib_rdaylight.$(if $(filter Darwin,$(shell uname -s)),dylib,so)
+python-test:
+	@$(PYTHON) -c "import numpy, pytest" 2>/dev/null || $(PYTHON) -m pip install --quiet numpy pytest
+	$(CARGO) build --workspace --lib --tests --profile test --features rdaylight-python/extension-module
+	@rm -rf $(PYSTAGE) && mkdir -p $(PYSTAGE)/rdaylight
+	@cp python/rdaylight/*.py $(PYSTAGE)/rdaylight/
+	@cp $(TARGET)/debug/$(PYLIB) $(PYSTAGE)/rdaylight/_rdaylight.abi3.so
+	PYTHONPATH=$(abspath $(PYSTAGE)) RDAYLIGHT_BIN=$(abspath $(TARGET))/debug \
+	    $(PYTHON) -m pytest -q -p no:cacheprovider python/tests
 
 radiance:
 	@$(PYTHON) -c "import pyradiance" 2>/dev/null || $(PYTHON) -m pip install --quiet "$(PYRADIANCE)"

@@ -310,7 +310,11 @@ impl Header {
         S: AsRef<str>,
     {
         let words: Vec<String> = args.into_iter().map(|a| quote_word(a.as_ref())).collect();
-        self.lines.push(words.join(" "));
+        // No command (a library caller's config): no line, since an empty line would end
+        // the header there and leave the lines after it in the data.
+        if !words.is_empty() {
+            self.lines.push(words.join(" "));
+        }
     }
 
     /// Append `CAPDATE=` and `GMT=` lines (both UTC here; Radiance writes local time in
@@ -533,6 +537,19 @@ mod tests {
         assert!(text.contains("rdc -ab 5 \"a b.rad\"\n"));
         let back = Header::read(&mut Cursor::new(&out[..]), "t").unwrap();
         assert_eq!(back.get_usize("NCOLS", "t").unwrap(), Some(146));
+    }
+
+    #[test]
+    fn empty_command_keeps_the_header_whole() {
+        // A library config without a command line (SkyMatrixConfig::new) once wrote an
+        // empty line here, which ended the header before LATLONG= and FORMAT=.
+        let mut h = Header::new();
+        h.push_command(Vec::<String>::new());
+        h.set("NCOLS", 8760);
+        let mut out = Vec::new();
+        h.write(&mut out, 1).unwrap();
+        let back = Header::read(&mut Cursor::new(&out[..]), "t").unwrap();
+        assert_eq!(back.get_usize("NCOLS", "t").unwrap(), Some(8760));
     }
 
     #[test]

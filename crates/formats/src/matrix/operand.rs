@@ -75,13 +75,20 @@ impl Operand {
 
     /// The operand of a matrix already in memory.
     pub fn from_matrix(m: &Matrix) -> Operand {
-        let ncomp = m.ncomp();
+        Operand::from_values(m.nrows, m.ncols, m.channels, &m.data)
+    }
+
+    /// The operand of `nrows` rows of `ncols * channels.ncomp` values in [`Matrix`]'s
+    /// order, borrowed (an array the caller owns, e.g. a NumPy array: no dense copy first).
+    /// Panics if `data` is shorter than that (a programming error).
+    pub fn from_values(nrows: usize, ncols: usize, channels: Channels, data: &[f64]) -> Operand {
+        let n = ncols * channels.ncomp;
         Operand {
-            nrows: m.nrows,
-            ncols: m.ncols,
-            channels: m.channels,
-            rows: (0..m.nrows)
-                .map(|r| Row::from_dense(m.row(r), ncomp))
+            nrows,
+            ncols,
+            channels,
+            rows: (0..nrows)
+                .map(|r| Row::from_dense(&data[r * n..(r + 1) * n], channels.ncomp))
                 .collect(),
         }
     }
