@@ -340,7 +340,15 @@ fn write_maps(
                 }
             })
             .collect();
-        let img = crate::metrics::map::render(&points, &pe)?;
+        let img = crate::metrics::map::render(
+            &points,
+            &pe,
+            &format!(
+                "TAI of GLoD{} against GLoD{} per sensor (seed Fig. 2.8)",
+                r.level, top.level
+            ),
+            "percentage error (%)",
+        )?;
         let png = crate::metrics::map::png_bytes(&img)?;
         let path = std::path::Path::new(dir).join(format!("pe_GLoD{}.png", r.level));
         let p = path.display().to_string();

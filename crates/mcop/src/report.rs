@@ -370,6 +370,11 @@ pub fn spread_png(r: &Results, level: u8, sigma: f64) -> Result<Vec<u8>> {
         .filter(|c| c.level == level && c.sigma == sigma)
         .map(|c| c.mape)
         .collect();
-    let img = rdaylight_metrics::map::render(&r.positions, &values)?;
+    let img = rdaylight_metrics::map::render(
+        &r.positions,
+        &values,
+        &format!("Spread of TAI per sensor: GLoD{level}, MCoP sigma {sigma}"),
+        "MAPE (%)",
+    )?;
     rdaylight_metrics::map::png_bytes(&img)
 }

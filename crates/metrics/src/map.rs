@@ -603,10 +603,10 @@ fn vals_summary(values: &[f64]) -> String {
     )
 }
 
-/// Render the map of `values` over `points` with the data's own range and no outline (the
-/// quick maps of rglod and rmcop).
-pub fn render(points: &[[f64; 2]], values: &[f64]) -> Result<RgbImage> {
-    let spec = MapSpec::auto("", "value", values);
+/// Render the map of `values` over `points` with a title, the values' unit, the data's own
+/// range and no outline (the quick maps of rglod and rmcop).
+pub fn render(points: &[[f64; 2]], values: &[f64], title: &str, unit: &str) -> Result<RgbImage> {
+    let spec = MapSpec::auto(title, unit, values);
     let plan = Plan::default();
     plot::to_image(&MapFigure::new(points, values, &spec, &plan)?)
 }
