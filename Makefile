@@ -2,7 +2,7 @@
 #
 #   make          the main job on the bundled example room and real London weather file
 #   make test     installs what the tests need (real Radiance via pyradiance, a single-host
-#                 Slurm) and runs all tests
+#                 Slurm) and runs the tests (the slow cases: make test-full)
 #   make install PREFIX=~/.local   the tools, their man pages and shell completions
 #
 # Makefiles are how our users chain Radiance tools; this one is also a worked example.
@@ -19,7 +19,7 @@ ROOM     := examples/room
 EPW      := examples/weather/GBR_London.Gatwick.037760_IWEC.epw
 FIX      := radiance-fixtures
 
-.PHONY: all example radiance-example build test radiance fixtures clean install uninstall docs
+.PHONY: all example radiance-example build test test-full slurm-start radiance fixtures clean install uninstall docs
 
 all: example
 
@@ -84,16 +84,29 @@ radiance-example: radiance
 	  | awk '{a[NR]=$$1} END {printf "per-sensor TAI |ours-Radiance|/Radiance: median %.2f %%, p95 %.2f %%, max %.2f %% (%d sensors)\n", a[int((NR+1)/2)], a[int(NR*0.95)], a[NR], NR}'
 
 # Installs real Radiance (pyradiance) when missing, starts a single-host Slurm for
-# tests/slurm.rs (examples/slurm/start.sh: installs slurm-wlm and munge with apt-get when
+# tests/all/slurm.rs (examples/slurm/start.sh: installs slurm-wlm and munge with apt-get when
 # missing, as root or through sudo; leaves the daemons running, `make slurm-stop` stops
-# them), then runs every test: unit, format round trips, malformed input, live interop
+# them), then runs the tests: unit, format round trips, malformed input, live interop
 # with the real Radiance binaries, and the Slurm job array, merge and resume. When Slurm
 # cannot start, the Slurm test fails with start.sh's reason; RDAYLIGHT_SKIP_SLURM=1 skips
 # it deliberately.
-test: radiance
+#   make test       every test except the slow cases (tests in a module named `full`, whose
+#                   path contains `::full::`; each has a fast representative in `make test`)
+#   make test-full  every test, the slow cases included (what CI runs is `make test`)
+# Both build without incremental data (a one-off build: it only costs disk) and with the
+# test profile of Cargo.toml (line tables only): README "Tests" gives times and disk use.
+TEST_ENV  := CARGO_INCREMENTAL=0 RDAYLIGHT_SLURM=1
+TEST_FAST := --skip ::full::
+
+test: radiance slurm-start
+	$(TEST_ENV) $(CARGO) test --workspace -- $(TEST_FAST)
+
+test-full: radiance slurm-start
+	$(TEST_ENV) $(CARGO) test --workspace
+
+slurm-start:
 	@if [ -z "$$RDAYLIGHT_SKIP_SLURM" ]; then bash examples/slurm/start.sh || \
-	    echo "make test: Slurm did not start; tests/slurm.rs will fail saying why"; fi
-	RDAYLIGHT_SLURM=1 $(CARGO) test --workspace
+	    echo "make test: Slurm did not start; tests/all/slurm.rs will fail saying why"; fi
 
 radiance:
 	@$(PYTHON) -c "import pyradiance" 2>/dev/null || $(PYTHON) -m pip install --quiet "$(PYRADIANCE)"
