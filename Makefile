@@ -93,9 +93,9 @@ radiance-example: radiance
 #   make test       every test except the slow cases (tests in a module named `full`, whose
 #                   path contains `::full::`; each has a fast representative in `make test`)
 #   make test-full  every test, the slow cases included (what CI runs is `make test`)
-# Both build without incremental data (a one-off build: it only costs disk) and with the
-# test profile of Cargo.toml (line tables only): README "Tests" gives times and disk use.
-TEST_ENV  := CARGO_INCREMENTAL=0 RDAYLIGHT_SLURM=1
+# Both build with the test profile of Cargo.toml (line tables only, no incremental data):
+# README "Tests" gives times and disk use.
+TEST_ENV  := RDAYLIGHT_SLURM=1
 TEST_FAST := --skip ::full::
 
 test: radiance slurm-start

@@ -92,73 +92,6 @@ fn transmittance_in_the_office_under_london_skies() {
 }
 
 #[test]
-fn obstruction_of_the_two_window_room_under_sunny_skies() {
-    check(
-        RoomKind::TwoWindow,
-        sunny_weather(),
-        "obstruction",
-        vec![Effect::Obstruction {
-            azimuth: 200.0,
-            half_width: 45.0,
-            altitude: 30.0,
-        }],
-        // Fitted 199.5,44.5,29.4: 4.1 % against 3.4 % noise-only, 1.21x (the model's own
-        // simulation error of this scene: 2.3 %).
-        1.3,
-    );
-}
-
-#[test]
-fn dark_walls_in_the_deep_room() {
-    check(
-        RoomKind::Deep,
-        sunny_weather(),
-        "walls",
-        vec![Effect::Reflectance {
-            class: SurfaceClass::Walls,
-            scale: 0.5,
-        }],
-        // Fitted 0.520 for 0.5: 3.6 % against 3.3 % noise-only, 1.09x (was 4.0x when the
-        // inter-reflected sun was traced per step at a fixed -ad 2048: 10-20 % noise at
-        // the deep sensors).
-        1.3,
-    );
-}
-
-#[test]
-fn faulty_sensor_in_the_two_window_room() {
-    check(
-        RoomKind::TwoWindow,
-        london(),
-        "sensor-fault",
-        vec![Effect::SensorFault {
-            factors: vec![(4, 0.6)],
-        }],
-        1.3,
-    );
-}
-
-#[test]
-fn combined_transmittance_and_obstruction() {
-    check(
-        RoomKind::TwoWindow,
-        sunny_weather(),
-        "transmittance+obstruction",
-        vec![
-            Effect::Transmittance { scale: 0.75 },
-            Effect::Obstruction {
-                azimuth: 160.0,
-                half_width: 40.0,
-                altitude: 28.0,
-            },
-        ],
-        // Fitted 159.5,38.5,29.4 and 0.761 for 160,40,28 and 0.75: 4.2 % against 3.4 %
-        // noise-only, 1.26x.
-        1.3,
-    );
-}
-
-#[test]
 fn control_reports_nothing_missing() {
     check(RoomKind::Office, london(), "control", vec![], 1.3);
 }
@@ -199,6 +132,81 @@ fn seed_transmittance_scan_selects_the_dirty_glass() {
         rows[7],
         rows[best]
     );
+}
+
+/// The other rooms' hidden-effect cases (`make test-full`; issue 21): each traces its own
+/// room's coefficients for minutes on 2 cores (the combined case took 490 s under load).
+/// `make test` keeps the office cases above (a hidden effect found, the control clean, the
+/// seed's scan), which share one room's coefficient cache.
+mod full {
+    use super::*;
+
+    #[test]
+    fn obstruction_of_the_two_window_room_under_sunny_skies() {
+        check(
+            RoomKind::TwoWindow,
+            sunny_weather(),
+            "obstruction",
+            vec![Effect::Obstruction {
+                azimuth: 200.0,
+                half_width: 45.0,
+                altitude: 30.0,
+            }],
+            // Fitted 199.5,44.5,29.4: 4.1 % against 3.4 % noise-only, 1.21x (the model's own
+            // simulation error of this scene: 2.3 %).
+            1.3,
+        );
+    }
+
+    #[test]
+    fn dark_walls_in_the_deep_room() {
+        check(
+            RoomKind::Deep,
+            sunny_weather(),
+            "walls",
+            vec![Effect::Reflectance {
+                class: SurfaceClass::Walls,
+                scale: 0.5,
+            }],
+            // Fitted 0.520 for 0.5: 3.6 % against 3.3 % noise-only, 1.09x (was 4.0x when the
+            // inter-reflected sun was traced per step at a fixed -ad 2048: 10-20 % noise at
+            // the deep sensors).
+            1.3,
+        );
+    }
+
+    #[test]
+    fn faulty_sensor_in_the_two_window_room() {
+        check(
+            RoomKind::TwoWindow,
+            london(),
+            "sensor-fault",
+            vec![Effect::SensorFault {
+                factors: vec![(4, 0.6)],
+            }],
+            1.3,
+        );
+    }
+
+    #[test]
+    fn combined_transmittance_and_obstruction() {
+        check(
+            RoomKind::TwoWindow,
+            sunny_weather(),
+            "transmittance+obstruction",
+            vec![
+                Effect::Transmittance { scale: 0.75 },
+                Effect::Obstruction {
+                    azimuth: 160.0,
+                    half_width: 40.0,
+                    altitude: 28.0,
+                },
+            ],
+            // Fitted 159.5,38.5,29.4 and 0.761 for 160,40,28 and 0.75: 4.2 % against 3.4 %
+            // noise-only, 1.26x.
+            1.3,
+        );
+    }
 }
 
 /// Files for the CLI error tests: two sensors, two weather steps, readings `body`.
