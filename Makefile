@@ -2,7 +2,7 @@
 #
 #   make          the main job on the bundled example room and real London weather file
 #   make test     installs what the tests need (real Radiance via pyradiance, a single-host
-#                 Slurm) and runs all tests
+#                 Slurm) and runs the tests (the slow cases: make test-full)
 #   make install PREFIX=~/.local   the tools, their man pages and shell completions
 #
 # Makefiles are how our users chain Radiance tools; this one is also a worked example.
@@ -20,7 +20,7 @@ ROOM     := examples/room
 EPW      := examples/weather/GBR_London.Gatwick.037760_IWEC.epw
 FIX      := radiance-fixtures
 
-.PHONY: all example radiance-example build test python-test radiance browser fixtures clean install uninstall docs
+.PHONY: all example radiance-example build test test-full slurm-start python-test radiance browser fixtures clean install uninstall docs
 
 all: example
 
@@ -125,17 +125,31 @@ TAI_SPREAD = paste <(grep '^[0-9]' $(1) | cut -f5) <(grep '^[0-9]' $(2) | cut -f
 	  | awk '{a[NR]=$$1} END {printf "per-sensor TAI, $(3): median %.2f %%, p95 %.2f %%, max %.2f %% (%d sensors)\n", a[int((NR+1)/2)], a[int(NR*0.95)], a[NR], NR}'
 
 # Installs real Radiance (pyradiance) when missing, starts a single-host Slurm for
-# tests/slurm.rs (examples/slurm/start.sh: installs slurm-wlm and munge with apt-get when
+# tests/all/slurm.rs (examples/slurm/start.sh: installs slurm-wlm and munge with apt-get when
 # missing, as root or through sudo; leaves the daemons running, `make slurm-stop` stops
-# them), then runs every test: unit, format round trips, malformed input, live interop
+# them), then runs the tests: unit, format round trips, malformed input, live interop
 # with the real Radiance binaries, and the Slurm job array, merge and resume. When Slurm
 # cannot start, the Slurm test fails with start.sh's reason; RDAYLIGHT_SKIP_SLURM=1 skips
 # it deliberately.
-test: radiance browser
-	@if [ -z "$$RDAYLIGHT_SKIP_SLURM" ]; then bash examples/slurm/start.sh || \
-	    echo "make test: Slurm did not start; tests/slurm.rs will fail saying why"; fi
-	RDAYLIGHT_SLURM=1 $(CARGO) test --workspace
+#   make test       every test except the slow cases (tests in a module named `full`, whose
+#                   path contains `::full::`; each has a fast representative in `make test`)
+#   make test-full  every test, the slow cases included (what CI runs is `make test`)
+# Both build with the test profile of Cargo.toml (line tables only, no incremental data):
+# README "Tests" gives times and disk use.
+TEST_ENV  := RDAYLIGHT_SLURM=1
+TEST_FAST := --skip ::full::
+
+test: radiance browser slurm-start
+	$(TEST_ENV) $(CARGO) test --workspace -- $(TEST_FAST)
 	@$(MAKE) --no-print-directory python-test
+
+test-full: radiance browser slurm-start
+	$(TEST_ENV) $(CARGO) test --workspace
+	@$(MAKE) --no-print-directory python-test
+
+slurm-start:
+	@if [ -z "$$RDAYLIGHT_SKIP_SLURM" ]; then bash examples/slurm/start.sh || \
+	    echo "make test: Slurm did not start; tests/all/slurm.rs will fail saying why"; fi
 
 # The Python package (crates/python, PyO3) against the command-line tools `cargo test` just
 # built (python/tests, about 15 s). cargo builds the module with the test profile and the
@@ -158,7 +172,7 @@ python-test:
 radiance:
 	@$(PYTHON) -c "import pyradiance" 2>/dev/null || $(PYTHON) -m pip install --quiet "$(PYRADIANCE)"
 
-# A real headless browser for tests/report_browser.rs (opens out/report.html-style pages:
+# A real headless browser for tests/all/report_browser.rs (opens out/report.html-style pages:
 # no console errors, no broken images, a screenshot kept in target/test-artefacts/).
 # Debian's chromium, installed with apt-get when missing (as root or through sudo);
 # RDAYLIGHT_SKIP_BROWSER=1 skips that test deliberately.

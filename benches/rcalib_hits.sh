@@ -11,9 +11,9 @@
 # model's re-simulation; 'simulation error' is the truth re-simulated at the model's
 # settings against the converged (noise-free) truth values: the floor of any fit.
 # Readings come from converged settings (Settings::truth); noise-only = the readings
-# against those noise-free values. `cargo test --release --test rcalib_hits fidelity_table -- --ignored`
+# against those noise-free values. `cargo test --release --test all rcalib_hits::fidelity_table -- --ignored`
 # and `... explain_timing_20_sensors_50_steps -- --ignored` are the other diagnostics.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-time cargo test --release --test rcalib_hits hit_rate_table -- --ignored --nocapture 2>&1 \
+time cargo test --release --test all rcalib_hits::hit_rate_table -- --ignored --nocapture 2>&1 \
     | grep -E '^\||^hits|panicked|^test result'

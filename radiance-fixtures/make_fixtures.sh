@@ -257,7 +257,7 @@ def manifest(log, spreads, timing, out):
     with open(out, 'w') as f:
         json.dump(doc, f, indent=1)
         f.write('\n')
-    # The same list, flat, for readers without a JSON parser (tests/fixtures.rs).
+    # The same list, flat, for readers without a JSON parser (tests/all/fixtures.rs).
     cols = ['file', 'kind', 'bytes', 'nrows', 'ncols', 'ncomp', 'format', 'cpu_s',
             'median_cv', 'p95_cv', 'command']
     with open(out[:-len('.json')] + '.tsv', 'w') as f:

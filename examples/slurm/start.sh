@@ -1,6 +1,6 @@
 #!/bin/bash
 # Start a single-host Slurm (slurmctld + slurmd + munged, daemon mode: no systemd, works in a
-# container) for examples/slurm and tests/slurm.rs (`make test` runs it first). Installs
+# container) for examples/slurm and tests/all/slurm.rs (`make test` runs it first). Installs
 # Debian's slurm-wlm and munge with apt-get when missing (as root, or through sudo when it
 # needs no password). Everything (slurm.conf, munge key and socket, state, spool, logs, pid
 # files) lives under $SLURM_HOME (default /tmp/rdaylight-slurm); clients find it through

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # make_gensdaymtx_fixtures.sh: reference spectral sky matrices from REAL Radiance 6
-# gensdaymtx (issue 8) for tests/spectral_skymtx.rs. Each case cuts one day out of the
+# gensdaymtx (issue 8) for tests/all/spectral_skymtx.rs. Each case cuts one day out of the
 # bundled London IWEC EPW (header kept: gensdaymtx reads the site, AOD 0.206, total sky
 # cover and the direct-normal / diffuse-horizontal illuminance fields) into
 # gensdaymtx_<name>.epw and writes gensdaymtx_<name>.smx: `gensdaymtx -u -m 1 -of` (146

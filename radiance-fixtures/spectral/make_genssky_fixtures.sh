@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # make_genssky_fixtures.sh: reference skies from REAL Radiance 6 genssky (issue 8) for
-# tests/spectral_genssky.rs. Each case writes genssky_<name>.rad (its stdout, with the sky
+# tests/all/spectral_genssky.rs. Each case writes genssky_<name>.rad (its stdout, with the sky
 # picture's path reduced to the file name) and genssky_<name>_sky.hsr (-r 48: 48 x 24
 # pixels, 20 bands, about 24 kB). genssky precomputes its atmosphere tables (about a minute
 # of CPU per climate/AOD) into a scratch folder that is deleted afterwards; its aerosol

@@ -27,7 +27,7 @@
 //! the view rays of [`viewrays`], command line in [`annual_cli`].
 //!
 //! Agreement with evalglare 3.06 is tested on the pictures of `radiance-fixtures/glare/`
-//! and `radiance-fixtures/pictures/` (`tests/rglare.rs`).
+//! and `radiance-fixtures/pictures/` (`tests/all/rglare.rs`).
 
 use rdaylight_base::{error, progress, radiometry, vec3};
 use rdaylight_formats as formats;

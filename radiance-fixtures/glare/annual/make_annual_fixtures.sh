@@ -12,7 +12,7 @@
 # Usage: radiance-fixtures/glare/annual/make_annual_fixtures.sh   (RES=800 by default)
 #   RADIANCE_BIN=/path/to/radiance/bin  optional; RAYPATH defaults to ../lib beside it.
 # hours.wea is made from examples/weather/*.epw with epw2wea and kept in this folder, so
-# `rglare annual -w hours.wea` evaluates exactly these steps (tests/rglare_annual.rs).
+# `rglare annual -w hours.wea` evaluates exactly these steps (tests/all/rglare_annual.rs).
 # 800 px: a pixel of 0.225 deg, so the 0.533 deg sun disc covers ~4.4 pixels and rpict's
 # one ray per pixel samples its area fairly (at 200 px it is one pixel hit or missed).
 set -euo pipefail

@@ -23,7 +23,7 @@
 //! Length of `-vd`: Radiance keeps it as the "view distance" (`vdist`, the focal distance for
 //! depth of field, `rpict -pd`) and writes it back in `VIEW=` as `vdir * vdist`. It does
 //! **not** scale the clipping distances: `viewray` uses the unit direction, so `-vo`/`-va`
-//! are world distances whatever `-vd`'s length (checked against `vwrays` in `tests/view.rs`).
+//! are world distances whatever `-vd`'s length (checked against `vwrays` in `tests/all/view.rs`).
 //!
 //! Ray formulas (`viewray`; image point `(x, y)` in `[0,1]²`, origin bottom left, shifted by
 //! `vs`/`vl` and centred: `x' = x + vs - ½`, `y' = y + vl - ½`; `D` unit view direction,

@@ -163,7 +163,7 @@ fn interpolate(x: &[f64], y: &[f64], at: f64) -> f64 {
 /// The spectrum reproduces the colour under illuminant E exactly (CIE 1931, 5 nm; out of
 /// gamut: the closest the model reaches), so photopic values agree with Radiance's step
 /// spectrum under light close to equal-energy; under daylight they differ by the
-/// metamerism of the two spectra (measured in `tests/spectral_misc.rs`). Fits are cached
+/// metamerism of the two spectra (measured in `tests/all/spectral_misc.rs`). Fits are cached
 /// per colour and method: a scene's surfaces share few colours.
 pub fn uplifted_bands(
     rgb: [f64; 3],

@@ -528,7 +528,7 @@ impl MieProfile {
     /// [`FALLBACK_MIE_SCALE_HEIGHT`], spectral dependence (lambda/550 nm)^-1.3 and optical
     /// depth [`FALLBACK_TAU550`] at 550 nm, i.e. an exponential fit of the OPAC
     /// continental-average profile. Measured against genssky with `mie_ca.dat`
-    /// (tests/spectral_genssky.rs, `fallback_profile_against_genssky`): see the module
+    /// (tests/all/spectral_genssky.rs, `fallback_profile_against_genssky`): see the module
     /// doc of [`crate::sky::genssky`].
     pub fn fallback() -> MieProfile {
         let h = FALLBACK_MIE_SCALE_HEIGHT;

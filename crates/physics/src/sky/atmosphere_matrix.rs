@@ -61,7 +61,7 @@
 //! Everything else (patch centres, sun spreading, overcast blend, 1.15 factor, sea-level
 //! viewer) follows gensdaymtx, so that the two agree to the precision of the tables.
 //!
-//! ## Agreement with gensdaymtx (measured, `tests/spectral_skymtx.rs`)
+//! ## Agreement with gensdaymtx (measured, `tests/all/spectral_skymtx.rs`)
 //!
 //! Two London IWEC days against real gensdaymtx 6.0a (`-u -m 1`, 16 sun-up hours each;
 //! June 28 with 0-2/10 sky cover, June 8 half cloudy; AOD 0.206 and 0.204 from the EPW; same

@@ -32,7 +32,7 @@
 //!   `E_d` the blended model diffuse horizontal (genssky's 1.15 is an empirical factor), and
 //!   the sun intensity set to `dirnorm / 6.7967e-5 / 179`.
 //!
-//! ## Agreement with genssky (measured, `tests/spectral_genssky.rs`)
+//! ## Agreement with genssky (measured, `tests/all/spectral_genssky.rs`)
 //!
 //! Six cases against real genssky 6.0a at `-r 48` (two latitudes 42 and 51.5 deg plus a
 //! tropical site with `-y`; March, June, December, January; sun 14–62 deg; AOD 0.115 and

@@ -20,7 +20,7 @@
 //! the sky condition. gensdaymtx (Radiance 6) instead runs a physically based clear-sky
 //! model (Bruneton's precomputed scattering) and scales it by cloud cover: a different
 //! sky, so the two agree on photopic totals only as far as Perez and that model agree.
-//! Measured (`tests/spectral_sky.rs::compare_with_gensdaymtx`, London, 2 days, RADIANCE
+//! Measured (`tests/all/spectral_sky.rs::compare_with_gensdaymtx`, London, 2 days, RADIANCE
 //! 6.0a): photopic sums over the sky patches within 1.5 % at the first day's bright hours,
 //! -24 % to +11 % on the second day's (where the sun's share and its patch spreading
 //! differ most); our skies are 3-15 % bluer (380-480 over 680-780 nm: 1.41-1.45 against
@@ -34,7 +34,7 @@
 //! Radiance's own cumulative observer tables, Radiance's `scolor_photopic`) equals that of the RGB matrix entry it replaces
 //! (`179 (0.2651 R + 0.6701 G + 0.0648 B)`): weighting the spectral matrix photopically
 //! gives rspecsky's photopic matrix (`rmtxop -c Y` of the RGB one), to float rounding
-//! (real `rmtxop -c Y` of both: 1.2e-7 to 1.8e-7 worst relative, `tests/spectral_sky.rs`).
+//! (real `rmtxop -c Y` of both: 1.2e-7 to 1.8e-7 worst relative, `tests/all/spectral_sky.rs`).
 //! With Radiance's channel convention (a band value is the spectral radiance times the full
 //! range, so equal-energy white is 1 in every band) the result feeds `rcontrib -cs N`
 //! coefficients and `rmtx`/`rcomb` directly.
