@@ -28,11 +28,13 @@ step() {
     local name=$1 out=$2
     shift 2
     /usr/bin/time -f "%M %e %U %S" -o "$tmp/t" "$@" > "$out"
-    awk -v n="$name" '{printf "%-34s %9.1f %8.2f %8.2f\n", n, $1 / 1024, $2, $3 + $4}' "$tmp/t"
+    awk -v n="$name" '{printf "%-34s %9.1f %8.2f %8.2f\n", n, $1 / 1024, $2, $3 + $4}' "$tmp/t" \
+        | tee -a "$tmp/rows"
 }
 
 echo "main job (make):"
 printf "%-34s %9s %8s %8s\n" step peak_MB wall_s cpu_s
+step "rinfo (inputs)" /dev/null "$bin/rinfo" $room/room.rad $pts $epw
 # shellcheck disable=SC2086 # rdc_opts is a list of options
 step "rdc -m 1 (sky coefficients)" "$tmp/dc.mtx" \
     "$bin/rdc" -I $rdc_opts -m 1 -faf $room/room.rad $room/skydome.rad < $pts
@@ -49,14 +51,17 @@ step "rmetrics (metrics)" /dev/null "$bin/rmetrics" -w $epw --pts $pts \
     --direct-sun "$tmp/direct_sun.mtx" --json "$tmp/metrics.json" -o "$tmp/metrics.tsv" "$tmp/ill.mtx"
 step "rmetrics --map ASE (one of 5 maps)" /dev/null "$bin/rmetrics" -w $epw --pts $pts \
     --direct-sun "$tmp/direct_sun.mtx" --map ASE --png "$tmp/ASE.png" "$tmp/ill.mtx"
+echo "whole job: peak $(awk '{print $(NF - 2)}' "$tmp/rows" | sort -g | tail -n 1) MB"
 echo "room: $(grep '^room' "$tmp/metrics.tsv")"
 
-# MF 4: coefficients at low settings (their values do not change the memory), the sky
-# from rspecsky (gendaymtx's format); both products read the same two files.
+# MF 4: coefficients at the main job's settings (how many are zero sets the product's
+# work, not its memory), the sky from rspecsky (gendaymtx's format); both products read
+# the same two files.
 echo
 echo "matrix product at MF 4 (165 x 2306 x 3 coefficients, 2306 x 8760 x 3 sky, float):"
 printf "%-34s %9s %8s %8s\n" program peak_MB wall_s cpu_s
-"$bin/rdc" -I -ab 1 -ad 256 -m 4 -faf $room/room.rad $room/skydome.rad < $pts > "$tmp/dc4.mtx"
+# shellcheck disable=SC2086
+"$bin/rdc" -I $rdc_opts -m 4 -faf $room/room.rad $room/skydome.rad < $pts > "$tmp/dc4.mtx"
 "$bin/rspecsky" -m 4 -of $epw > "$tmp/sky4.smx"
 step "dctimestep dc4 sky4 (Radiance)" "$tmp/ill4_radiance.mtx" \
     "$RADIANCE_BIN/dctimestep" -of "$tmp/dc4.mtx" "$tmp/sky4.smx"

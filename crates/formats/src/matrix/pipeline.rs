@@ -4,6 +4,10 @@
 //! header (and loads every right operand) before anything is written, so a shape or
 //! NCOMP mismatch is reported first; then the first input is streamed row by row through
 //! the multiplications, the channel transform (`rmtxop -c`) and the scale (`rmtxop -s`).
+//! When holding the right-most operand (a sky matrix: thousands of time steps) would cost
+//! more than holding the first input's rows and the whole result, the loops turn around:
+//! the first input is read whole, the right-most operand's rows are added into the result
+//! one at a time ([`Outer`], same bits), and the result's rows are then written.
 //! With [`Pipeline::stack`] the inputs' row blocks are concatenated instead, with
 //! [`Pipeline::columns`] their column blocks (side by side). [`Pipeline::hours`] computes
 //! one time chunk of a product (columns `A..B` of the right-most matrix, 0-based,
@@ -1007,5 +1011,63 @@ impl Opened {
             prev = (r.name().to_string(), s);
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn product(inputs: &[String]) -> Pipeline {
+        Pipeline {
+            inputs: inputs.to_vec(),
+            stack: false,
+            columns: false,
+            read: ReadOptions::default(),
+            coefs: Vec::new(),
+            scale: Vec::new(),
+            format: None,
+            transpose: false,
+            header: true,
+            command: vec!["rmtx".into()],
+            seekable: false,
+            manifests: Vec::new(),
+            hours: None,
+            manifest: None,
+            verify: false,
+        }
+    }
+
+    /// An ascii file of `nrows x ncols x 1`, every element `v`.
+    fn write(dir: &std::path::Path, name: &str, nrows: usize, ncols: usize, v: f64) -> String {
+        let row = vec![v.to_string(); ncols].join(" ");
+        let text = format!(
+            "#?RADIANCE\nNROWS={nrows}\nNCOLS={ncols}\nNCOMP=1\nFORMAT=ascii\n\n{}",
+            format!("{row}\n").repeat(nrows)
+        );
+        let p = dir.join(name);
+        std::fs::write(&p, text).unwrap();
+        p.to_string_lossy().into_owned()
+    }
+
+    /// The outer order is taken exactly when holding the right-most operand would cost
+    /// more than [`Outer::bytes`]: 2 x 30 by 30 x 400 (dense, 96 kB held) goes outer
+    /// (2 x (30 x 4 + 400 x 8) = 6.6 kB), 100 x 30 by the same stays held (332 kB outer).
+    #[test]
+    fn the_outer_order_is_taken_when_it_holds_less() {
+        let t = tempfile::tempdir().unwrap();
+        let sky = write(t.path(), "sky", 30, 400, 0.5);
+        let few = write(t.path(), "few", 2, 30, 0.25);
+        let many = write(t.path(), "many", 100, 30, 0.25);
+        let o = product(&[few.clone(), sky.clone()])
+            .open(&[few, sky.clone()])
+            .unwrap();
+        let p = o.product.as_ref().expect("outer order");
+        assert_eq!((p.nrows(), p.ncols(), p.rows_added()), (2, 400, 30));
+        assert!(p.row(1).iter().all(|&v| v == 30.0 * 0.125));
+        let o = product(&[many.clone(), sky.clone()])
+            .open(&[many, sky])
+            .unwrap();
+        assert!(o.product.is_none() && o.chain.len() == 1);
     }
 }
