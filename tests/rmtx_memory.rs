@@ -3,7 +3,7 @@
 //! into the result instead (`formats::matrix::Outer`). Both orders give the same bytes,
 //! and the product's peak memory stays bounded for the main job's shapes: the sun-only
 //! matrix of `make` (5186 suns x 8760 hours) and a dense MF 4 sky (2306 x 8760, where
-//! dctimestep peaks at 254 MB and rmtx holding the sky at 294 MB; `benches/memory.sh`).
+//! dctimestep peaks at 254 MB and rmtx holding the sky 287 MB; `benches/memory.sh`).
 //!
 //! Peak memory is the children's maximum resident set (`getrusage(RUSAGE_CHILDREN)`),
 //! deterministic for a given input, unlike time: no timed test here.
@@ -130,7 +130,7 @@ fn children_peak_mb() -> f64 {
 /// The main job's two large products, on synthetic matrices of their shapes (generated
 /// here: 545 MB and 242 MB of float): 165 sensors times the sun-only matrix (one sun per
 /// daytime hour among 5186 patches, as `rspecsky -m 6 -5 0.533 -d`), and times a dense
-/// MF 4 sky (2306 patches, zero at night). Holding the MF 4 sky took 294 MB; both must
+/// MF 4 sky (2306 patches, zero at night). Holding the MF 4 sky took 287 MB; both must
 /// stay under the 150 MB for the whole `make` job. Every child of this test binary
 /// counts in the maximum, so the bound holds for each product.
 #[test]
