@@ -36,7 +36,7 @@ pub mod reader;
 pub mod writer;
 
 pub use memory::Matrix;
-pub use operand::Operand;
+pub use operand::{Operand, Outer};
 pub use ops::{ChannelTransform, RowOps, Shape};
 pub use pipeline::Pipeline;
 pub use reader::{MatrixReader, ReadOptions};

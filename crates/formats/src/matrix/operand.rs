@@ -55,22 +55,40 @@ impl Operand {
         reader: &mut MatrixReader<R>,
         cols: Option<Range<usize>>,
     ) -> Result<Operand> {
+        Ok(Operand::read_within(reader, cols, usize::MAX)?.0)
+    }
+
+    /// As [`Operand::read`], but stop after the row that takes [`Operand::heap_bytes`]
+    /// beyond `budget`: the rows read and whether they are all of them. What a caller does
+    /// when an operand turns out larger than the other loop order's memory ([`Outer`]):
+    /// how large is known only once the rows are read (a sun-only sky is almost all zeros).
+    pub fn read_within<R: BufRead>(
+        reader: &mut MatrixReader<R>,
+        cols: Option<Range<usize>>,
+        budget: usize,
+    ) -> Result<(Operand, bool)> {
         let ncomp = reader.ncomp();
         let keep = cols.unwrap_or(0..reader.ncols());
         let mut buf = vec![0.0; reader.row_len()];
         let mut rows = Vec::new();
+        let mut bytes = 0usize;
+        let mut complete = true;
         while reader.read_row(&mut buf)? {
-            rows.push(Row::from_dense(
-                &buf[keep.start * ncomp..keep.end * ncomp],
-                ncomp,
-            ));
+            let row = Row::from_dense(&buf[keep.start * ncomp..keep.end * ncomp], ncomp);
+            bytes += row.heap_bytes();
+            rows.push(row);
+            if bytes > budget {
+                complete = false;
+                break;
+            }
         }
-        Ok(Operand {
+        let op = Operand {
             nrows: rows.len(),
             ncols: keep.len(),
             channels: reader.info().channels,
             rows,
-        })
+        };
+        Ok((op, complete))
     }
 
     /// The operand of a matrix already in memory.
@@ -112,13 +130,7 @@ impl Operand {
 
     /// Bytes held by the rows' values and indices (what the operand costs in memory).
     pub fn heap_bytes(&self) -> usize {
-        self.rows
-            .iter()
-            .map(|r| match r {
-                Row::Dense(v) => v.len() * 8,
-                Row::Sparse { cols, vals } => cols.len() * 4 + vals.len() * 8,
-            })
-            .sum()
+        self.rows.iter().map(Row::heap_bytes).sum()
     }
 
     /// `out = a · self` for one row `a` (`nrows * ncomp` numbers), per channel: `out` has
@@ -131,23 +143,39 @@ impl Operand {
             if ah.iter().all(|&v| v == 0.0) {
                 continue;
             }
-            match row {
-                Row::Dense(brow) => {
-                    for (o, bv) in out.chunks_exact_mut(nc).zip(brow.chunks_exact(nc)) {
-                        for k in 0..nc {
-                            o[k] += ah[k] * bv[k];
-                        }
-                    }
-                }
-                Row::Sparse { cols, vals } => {
-                    for (&j, bv) in cols.iter().zip(vals.chunks_exact(nc)) {
-                        let o = &mut out[j as usize * nc..(j as usize + 1) * nc];
-                        for k in 0..nc {
-                            o[k] += ah[k] * bv[k];
-                        }
+            row.add_scaled(ah, out, nc);
+        }
+    }
+}
+
+impl Row {
+    /// `out += ah · self` per channel (`ah`: one element's `nc` components): the one
+    /// multiply-add of every product here, in both loop orders ([`Operand::multiply_row`],
+    /// [`Outer`]), so they give the same bits.
+    fn add_scaled(&self, ah: &[f64], out: &mut [f64], nc: usize) {
+        match self {
+            Row::Dense(brow) => {
+                for (o, bv) in out.chunks_exact_mut(nc).zip(brow.chunks_exact(nc)) {
+                    for k in 0..nc {
+                        o[k] += ah[k] * bv[k];
                     }
                 }
             }
+            Row::Sparse { cols, vals } => {
+                for (&j, bv) in cols.iter().zip(vals.chunks_exact(nc)) {
+                    let o = &mut out[j as usize * nc..(j as usize + 1) * nc];
+                    for k in 0..nc {
+                        o[k] += ah[k] * bv[k];
+                    }
+                }
+            }
+        }
+    }
+
+    fn heap_bytes(&self) -> usize {
+        match self {
+            Row::Dense(v) => v.len() * 8,
+            Row::Sparse { cols, vals } => cols.len() * 4 + vals.len() * 8,
         }
     }
 }
@@ -172,6 +200,148 @@ impl Row {
             }
         }
         Row::Sparse { cols, vals }
+    }
+}
+
+/// The left operand of an [`Outer`] product, transposed (`[h][i][k]`): f32 while every
+/// value is one (any float file read as is), f64 from the first value that is not, so the
+/// product's bits never depend on the storage.
+#[derive(Debug, Clone)]
+enum Left {
+    F32(Vec<f32>),
+    F64(Vec<f64>),
+}
+
+/// `L · B` in the other loop order: the left rows `L` held (few: sensors), `B`'s rows read
+/// one at a time and added into the whole result, `C[i] += L[i][h] · B[h]` for
+/// `h = 0, 1, ...`. Every element of `C` gets the same terms in the same order as
+/// [`Operand::multiply_row`] (same skipped zero coefficients, same dense or sparse form of
+/// each row of `B`, the same multiply-add: [`Row::add_scaled`]), so both orders give the
+/// same bits.
+///
+/// Memory is `L` (f32 when exact) plus `C` (f64 accumulators), whatever the size of `B`:
+/// for 165 sensors x 2306 patches (MF 4) x 8760 hours x RGB, 4.6 + 34.7 MB, where holding
+/// the MF 4 sky takes 283 MB (half its hours are night: zero) and dctimestep 254 MB
+/// (measured, `benches/memory.sh`). With few sensors and many time steps this is the
+/// smaller of the two; [`Outer::bytes`] says how small.
+#[derive(Debug, Clone)]
+pub struct Outer {
+    nc: usize,
+    nleft: usize,
+    inner: usize,
+    ncols: usize,
+    left: Left,
+    out: Vec<f64>,
+    /// Rows of `B` added so far.
+    added: usize,
+}
+
+impl Outer {
+    /// Memory of the product of `nleft x inner` by `inner x ncols` matrices of `nc`
+    /// components (left in f32, result in f64).
+    pub fn bytes(nleft: usize, inner: usize, ncols: usize, nc: usize) -> usize {
+        nleft.saturating_mul(nc).saturating_mul(
+            inner
+                .saturating_mul(4)
+                .saturating_add(ncols.saturating_mul(8)),
+        )
+    }
+
+    /// A zero product of `nleft` rows by `inner x ncols` of `nc` components; set the left
+    /// rows with [`Outer::set_left_row`] before adding rows of `B`.
+    pub fn new(nleft: usize, inner: usize, ncols: usize, nc: usize) -> Outer {
+        Outer {
+            nc,
+            nleft,
+            inner,
+            ncols,
+            left: Left::F32(vec![0.0; nleft * inner * nc]),
+            out: vec![0.0; nleft * ncols * nc],
+            added: 0,
+        }
+    }
+
+    /// Left row `i` (`inner * nc` numbers).
+    pub fn set_left_row(&mut self, i: usize, row: &[f64]) {
+        let (nc, nl) = (self.nc, self.nleft);
+        if let Left::F32(v) = &self.left {
+            if row
+                .iter()
+                .any(|&x| f64::from(x as f32).to_bits() != x.to_bits())
+            {
+                self.left = Left::F64(v.iter().map(|&x| f64::from(x)).collect());
+            }
+        }
+        for (h, e) in row.chunks_exact(nc).enumerate() {
+            let at = (h * nl + i) * nc;
+            match &mut self.left {
+                Left::F32(v) => {
+                    for (d, &x) in v[at..at + nc].iter_mut().zip(e) {
+                        *d = x as f32;
+                    }
+                }
+                Left::F64(v) => v[at..at + nc].copy_from_slice(e),
+            }
+        }
+    }
+
+    /// Add the next row of `B` (`ncols * nc` numbers, dense).
+    pub fn add_values(&mut self, values: &[f64]) {
+        self.add_row(&Row::from_dense(values, self.nc));
+    }
+
+    /// Add the rows of `op`, the next rows of `B`.
+    pub fn add_operand(&mut self, op: &Operand) {
+        for r in &op.rows {
+            self.add_row(r);
+        }
+    }
+
+    fn add_row(&mut self, row: &Row) {
+        let (nc, h) = (self.nc, self.added);
+        self.added += 1;
+        // More rows than `L` has columns: counted, and refused by the caller's shape check.
+        if h >= self.inner {
+            return;
+        }
+        let rl = self.ncols * nc;
+        let mut ah = vec![0.0; nc];
+        for (i, out) in self.out.chunks_exact_mut(rl).enumerate() {
+            let at = (h * self.nleft + i) * nc;
+            match &self.left {
+                Left::F32(v) => {
+                    for (a, &x) in ah.iter_mut().zip(&v[at..at + nc]) {
+                        *a = f64::from(x);
+                    }
+                }
+                Left::F64(v) => ah.copy_from_slice(&v[at..at + nc]),
+            }
+            if ah.iter().all(|&v| v == 0.0) {
+                continue;
+            }
+            row.add_scaled(&ah, out, nc);
+        }
+    }
+
+    /// Rows of `B` added so far.
+    pub fn rows_added(&self) -> usize {
+        self.added
+    }
+
+    /// Result rows (`nleft`).
+    pub fn nrows(&self) -> usize {
+        self.nleft
+    }
+
+    /// Result columns.
+    pub fn ncols(&self) -> usize {
+        self.ncols
+    }
+
+    /// Result row `i` (`ncols * nc` numbers).
+    pub fn row(&self, i: usize) -> &[f64] {
+        let rl = self.ncols * self.nc;
+        &self.out[i * rl..(i + 1) * rl]
     }
 }
 
@@ -246,5 +416,71 @@ mod tests {
                 assert_eq!(out[j * 2 + k].to_bits(), want.to_bits(), "({j}, {k})");
             }
         }
+    }
+
+    /// `Outer` against `multiply_row`, row by row, bit for bit: a dense, a sparse and a
+    /// zero row of `B`, left rows with zero elements (skipped alike), and a left value
+    /// that is not an f32 (stored as f64 from then on), then a NaN coefficient.
+    #[test]
+    fn outer_order_gives_the_row_orders_bits() {
+        let b = sample();
+        let op = Operand::from_matrix(&b);
+        let mut left: Vec<Vec<f64>> = vec![
+            vec![0.5, 1.25, 0.0, 0.0, 3.0, 0.75],
+            vec![0.0; 6],
+            vec![1.0, 2.0, 4.0, 8.0, 16.0, 32.0],
+        ];
+        for pass in 0..3 {
+            if pass == 1 {
+                left[1] = vec![0.1, 0.2, 0.3, 0.0, 0.7, 1.0 / 3.0];
+            }
+            if pass == 2 {
+                left[2][3] = f64::NAN;
+            }
+            let mut outer = Outer::new(left.len(), 3, 5, 2);
+            for (i, a) in left.iter().enumerate() {
+                outer.set_left_row(i, a);
+            }
+            assert_eq!(matches!(outer.left, Left::F32(_)), pass == 0);
+            for r in 0..3 {
+                outer.add_values(b.row(r));
+            }
+            assert_eq!(outer.rows_added(), 3);
+            for (i, a) in left.iter().enumerate() {
+                let mut want = vec![0.0; 10];
+                op.multiply_row(a, &mut want);
+                let got: Vec<u64> = outer.row(i).iter().map(|v| v.to_bits()).collect();
+                let want: Vec<u64> = want.iter().map(|v| v.to_bits()).collect();
+                assert_eq!(got, want, "pass {pass}, row {i}");
+            }
+        }
+    }
+
+    #[test]
+    fn outer_memory_is_the_left_in_f32_and_the_result_in_f64() {
+        // 165 sensors x 2306 patches (MF 4) x 8760 hours x RGB: 4.6 + 34.7 MB.
+        assert_eq!(
+            Outer::bytes(165, 2306, 8760, 3),
+            165 * 3 * (2306 * 4 + 8760 * 8)
+        );
+        assert_eq!(Outer::bytes(usize::MAX, 2, 2, 3), usize::MAX);
+    }
+
+    #[test]
+    fn reading_within_a_budget_stops_after_the_row_that_passes_it() {
+        let mut bytes = b"#?RADIANCE\nNROWS=3\nNCOLS=5\nNCOMP=2\nFORMAT=ascii\n\n".to_vec();
+        let m = sample();
+        for r in 0..3 {
+            let line: Vec<String> = m.row(r).iter().map(|v| v.to_string()).collect();
+            bytes.extend_from_slice(format!("{}\n", line.join(" ")).as_bytes());
+        }
+        let opts = crate::matrix::ReadOptions::default();
+        let mut r = MatrixReader::new(&bytes[..], "m", &opts).unwrap();
+        // The dense first row alone (80 bytes) passes a budget of 50.
+        let (op, complete) = Operand::read_within(&mut r, None, 50).unwrap();
+        assert!(!complete && op.nrows == 1 && op.heap_bytes() == 80);
+        let mut r = MatrixReader::new(&bytes[..], "m", &opts).unwrap();
+        let (op, complete) = Operand::read_within(&mut r, None, 100).unwrap();
+        assert!(complete && op == Operand::from_matrix(&m));
     }
 }

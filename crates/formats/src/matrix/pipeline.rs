@@ -4,6 +4,10 @@
 //! header (and loads every right operand) before anything is written, so a shape or
 //! NCOMP mismatch is reported first; then the first input is streamed row by row through
 //! the multiplications, the channel transform (`rmtxop -c`) and the scale (`rmtxop -s`).
+//! When holding the right-most operand (a sky matrix: thousands of time steps) would cost
+//! more than holding the first input's rows and the whole result, the loops turn around:
+//! the first input is read whole, the right-most operand's rows are added into the result
+//! one at a time ([`Outer`], same bits), and the result's rows are then written.
 //! With [`Pipeline::stack`] the inputs' row blocks are concatenated instead, with
 //! [`Pipeline::columns`] their column blocks (side by side). [`Pipeline::hours`] computes
 //! one time chunk of a product (columns `A..B` of the right-most matrix, 0-based,
@@ -21,8 +25,8 @@
 use super::ops::{check_multiply, check_stack, scale_factors};
 use super::writer::{DOUBLE_DIGITS, FLOAT_DIGITS};
 use super::{
-    ChannelTransform, DataFormat, Matrix, MatrixReader, MatrixWriter, Operand, ReadOptions, RowOps,
-    Shape, WriteOptions,
+    ChannelTransform, DataFormat, Matrix, MatrixReader, MatrixWriter, Operand, Outer, ReadOptions,
+    RowOps, Shape, WriteOptions,
 };
 use crate::error::{Error, Result};
 use crate::header::Header;
@@ -96,6 +100,10 @@ struct Opened {
     /// With `hours` and no right operand: the columns kept of each streamed row.
     keep: Option<Range<usize>>,
     scratch: Vec<f64>,
+    /// The whole product, computed in the other loop order when holding the right-most
+    /// operand would take more memory ([`Opened::multiply_outer`]); its rows are then
+    /// what [`Opened::next_row`] delivers.
+    product: Option<Outer>,
 }
 
 impl Pipeline {
@@ -306,6 +314,7 @@ impl Pipeline {
             hours: None,
             keep: None,
             scratch: Vec::new(),
+            product: None,
         };
         if self.stack {
             o.check_stack()?;
@@ -314,8 +323,9 @@ impl Pipeline {
         } else {
             o.load_chain(&inputs[1..], &self.read, self.hours)?;
         }
-        // A transposed result is held whole before it is written: no need to read twice.
-        if !self.transpose {
+        // A transposed result is held whole before it is written, and a product computed
+        // in the outer order has read its left input whole: no need to read them twice.
+        if !self.transpose && o.product.is_none() {
             for p in streamed {
                 super::reader::check_data(p, &self.read)?;
             }
@@ -418,6 +428,7 @@ impl Pipeline {
             hours: None,
             keep: None,
             scratch: Vec::new(),
+            product: None,
         };
         o.check_stack()?;
         let info = o.readers[0].info().clone();
@@ -807,8 +818,30 @@ impl Opened {
         for (i, mut r) in right.into_iter().enumerate() {
             let name = r.name().to_string();
             self.note_format(r.info().format);
-            let keep = cols.clone().filter(|_| i + 1 == nright);
-            let m = Operand::read(&mut r, keep)?;
+            let last = i + 1 == nright;
+            let keep = cols.clone().filter(|_| last);
+            // The right-most operand (the sky: thousands of time steps) is held only while
+            // it costs less than the product in the outer order, which needs the left
+            // input's rows to be known.
+            let budget = match (last, self.nrows) {
+                (true, Some(n)) => {
+                    let ncols = keep.as_ref().map_or(r.ncols(), |k| k.len());
+                    Outer::bytes(n, prev.1.ncols, ncols, r.ncomp())
+                }
+                _ => usize::MAX,
+            };
+            let (m, complete) = Operand::read_within(&mut r, keep.clone(), budget)?;
+            if !complete {
+                let p = self.multiply_outer(m, &mut r, keep, prev.1.ncols)?;
+                let got = Shape {
+                    nrows: Some(p.rows_added()),
+                    ncols: p.ncols(),
+                    ncomp: r.ncomp(),
+                };
+                check_multiply(&prev.0, prev.1, &name, got)?;
+                self.product = Some(p);
+                return Ok(());
+            }
             check_multiply(&prev.0, prev.1, &name, m.shape())?;
             prev = (name, m.shape());
             self.chain.push(m);
@@ -816,9 +849,51 @@ impl Opened {
         Ok(())
     }
 
+    /// The product of the streamed input, the operands in `chain` and the right-most
+    /// operand `r` (its first rows already in `held`), computed in the outer order
+    /// ([`Outer`]): the streamed input's rows times `chain` are held, `r`'s rows added one
+    /// at a time. Memory: [`Outer::bytes`], whatever `r`'s size. `inner`: NCOLS of the
+    /// held rows (NROWS of `r`).
+    fn multiply_outer(
+        &mut self,
+        held: Operand,
+        r: &mut MatrixReader<Box<dyn BufRead>>,
+        keep: Option<Range<usize>>,
+        inner: usize,
+    ) -> Result<Outer> {
+        let nleft = self.nrows.unwrap_or(0);
+        let nc = r.ncomp();
+        let keep = keep.unwrap_or(0..r.ncols());
+        let mut p = Outer::new(nleft, inner, keep.len(), nc);
+        let mut left = RowOps::new(nc, std::mem::take(&mut self.chain), None, None);
+        let first = &mut self.readers[0];
+        let mut row = vec![0.0; first.row_len()];
+        let mut i = 0;
+        // The reader refuses rows beyond NROWS (the header's, or a binary file's size).
+        while first.read_row(&mut row)? {
+            p.set_left_row(i, left.apply(&row));
+            i += 1;
+        }
+        if i != nleft {
+            return Err(Error::Mismatch(format!(
+                "{}: {i} rows where {nleft} were expected",
+                first.name()
+            )));
+        }
+        p.add_operand(&held);
+        drop(held);
+        let mut buf = vec![0.0; r.row_len()];
+        while r.read_row(&mut buf)? {
+            p.add_values(&buf[keep.start * nc..keep.end * nc]);
+        }
+        Ok(p)
+    }
+
     /// Columns of the rows [`Opened::next_row`] delivers.
     fn in_ncols(&self) -> usize {
-        if self.side_by_side {
+        if let Some(p) = &self.product {
+            p.ncols()
+        } else if self.side_by_side {
             self.readers.iter().map(|r| r.ncols()).sum()
         } else if let Some(k) = &self.keep {
             k.len()
@@ -830,6 +905,14 @@ impl Opened {
     /// The next input row (`in_ncols * ncomp` numbers): the readers one after the other,
     /// or side by side; `false` at the end.
     fn next_row(&mut self, row: &mut [f64]) -> Result<bool> {
+        if let Some(p) = &self.product {
+            if self.rows == p.nrows() {
+                return Ok(false);
+            }
+            row.copy_from_slice(p.row(self.rows));
+            self.rows += 1;
+            return Ok(true);
+        }
         if self.side_by_side {
             let mut off = 0;
             let mut ended: Vec<usize> = Vec::new();
@@ -928,5 +1011,63 @@ impl Opened {
             prev = (r.name().to_string(), s);
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn product(inputs: &[String]) -> Pipeline {
+        Pipeline {
+            inputs: inputs.to_vec(),
+            stack: false,
+            columns: false,
+            read: ReadOptions::default(),
+            coefs: Vec::new(),
+            scale: Vec::new(),
+            format: None,
+            transpose: false,
+            header: true,
+            command: vec!["rmtx".into()],
+            seekable: false,
+            manifests: Vec::new(),
+            hours: None,
+            manifest: None,
+            verify: false,
+        }
+    }
+
+    /// An ascii file of `nrows x ncols x 1`, every element `v`.
+    fn write(dir: &std::path::Path, name: &str, nrows: usize, ncols: usize, v: f64) -> String {
+        let row = vec![v.to_string(); ncols].join(" ");
+        let text = format!(
+            "#?RADIANCE\nNROWS={nrows}\nNCOLS={ncols}\nNCOMP=1\nFORMAT=ascii\n\n{}",
+            format!("{row}\n").repeat(nrows)
+        );
+        let p = dir.join(name);
+        std::fs::write(&p, text).unwrap();
+        p.to_string_lossy().into_owned()
+    }
+
+    /// The outer order is taken exactly when holding the right-most operand would cost
+    /// more than [`Outer::bytes`]: 2 x 30 by 30 x 400 (dense, 96 kB held) goes outer
+    /// (2 x (30 x 4 + 400 x 8) = 6.6 kB), 100 x 30 by the same stays held (332 kB outer).
+    #[test]
+    fn the_outer_order_is_taken_when_it_holds_less() {
+        let t = tempfile::tempdir().unwrap();
+        let sky = write(t.path(), "sky", 30, 400, 0.5);
+        let few = write(t.path(), "few", 2, 30, 0.25);
+        let many = write(t.path(), "many", 100, 30, 0.25);
+        let o = product(&[few.clone(), sky.clone()])
+            .open(&[few, sky.clone()])
+            .unwrap();
+        let p = o.product.as_ref().expect("outer order");
+        assert_eq!((p.nrows(), p.ncols(), p.rows_added()), (2, 400, 30));
+        assert!(p.row(1).iter().all(|&v| v == 30.0 * 0.125));
+        let o = product(&[many.clone(), sky.clone()])
+            .open(&[many, sky])
+            .unwrap();
+        assert!(o.product.is_none() && o.chain.len() == 1);
     }
 }
