@@ -43,6 +43,7 @@ mod rglod_cli;
 mod rmcop;
 mod rmetrics;
 mod rmtx_hours;
+mod rmtx_memory;
 mod rrecon_cli;
 mod rrecon_pipeline;
 mod rspecsky;
