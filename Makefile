@@ -20,7 +20,7 @@ ROOM     := examples/room
 EPW      := examples/weather/GBR_London.Gatwick.037760_IWEC.epw
 FIX      := radiance-fixtures
 
-.PHONY: all example radiance-example build test test-full slurm-start python-test radiance browser fixtures clean install uninstall docs
+.PHONY: all example radiance-example build test test-full rcalib-cache slurm-start python-test radiance browser fixtures clean install uninstall docs
 
 all: example
 
@@ -147,6 +147,17 @@ test-full: radiance browser slurm-start
 	$(TEST_ENV) $(CARGO) test --workspace
 	@$(MAKE) --no-print-directory python-test
 
+# Regenerate tests/data/rcalib-cache/ (the daylight coefficients of the rcalib cases that
+# `make test` runs; tests/all/rcalib.rs seeds its cache from it): those cases from an
+# empty cache in a scratch TMPDIR, then the cache files they wrote. About 11 min on 2 cores.
+RCACHE_TMP := $(abspath $(TARGET))/rcalib-cache-tmp
+rcalib-cache:
+	@rm -rf $(RCACHE_TMP) && mkdir -p $(RCACHE_TMP)
+	TMPDIR=$(RCACHE_TMP) RDAYLIGHT_RCALIB_NO_SEED=1 $(CARGO) test --workspace --test all rcalib:: -- $(TEST_FAST)
+	rm -rf tests/data/rcalib-cache && mkdir -p tests/data/rcalib-cache
+	cp $(RCACHE_TMP)/rcalib-test-cache/dc-*.bin tests/data/rcalib-cache/
+	@rm -rf $(RCACHE_TMP); du -sh tests/data/rcalib-cache
+
 slurm-start:
 	@if [ -z "$$RDAYLIGHT_SKIP_SLURM" ]; then bash examples/slurm/start.sh || \
 	    echo "make test: Slurm did not start; tests/all/slurm.rs will fail saying why"; fi
@@ -240,10 +251,10 @@ spectral-example: build
 	$(BIN)/rspecsky -cs 18 -m 1 -of $(EPW) > $(SPEC)/sky18.smx
 	$(BIN)/rmtx -ff $(SPEC)/dc18.mtx $(SPEC)/sky18.smx > $(SPEC)/irradiance18.mtx
 	$(BIN)/rmetrics melanopic -w $(EPW) --pts $(SENSORS) --summary $(SPEC)/melanopic.tsv \
-	    --png $(SPEC)/medi_days.png -o $(SPEC)/medi.mtx $(SPEC)/irradiance18.mtx
+	    --png $(SPEC)/medi_days.png --temporal $(SPEC)/medi_year.png -o $(SPEC)/medi.mtx $(SPEC)/irradiance18.mtx
 	@rm -f $(SPEC)/irradiance18.mtx
 	@awk -F'\t' 'NR>1 {m+=$$5; e+=$$6; r+=$$7; d+=$$13; n++} END {printf "room means over daylit hours: m-EDI %.0f lx, Ev %.0f lx, M/P %.3f; mornings with m-EDI >= 250 lx 8-12 h: %.1f %% of days (%d sensors)\n", m/n, e/n, r/n, d/n, n}' $(SPEC)/melanopic.tsv
-	@echo "Per sensor: $(SPEC)/melanopic.tsv; m-EDI per sensor and hour: $(SPEC)/medi.mtx; map: $(SPEC)/medi_days.png"
+	@echo "Per sensor: $(SPEC)/melanopic.tsv; m-EDI per sensor and hour: $(SPEC)/medi.mtx; map: $(SPEC)/medi_days.png; year (room median): $(SPEC)/medi_year.png"
 
 # rcalib on the bundled hidden-effect case (examples/calib, made by `rcalib synth`): compare
 # the model with the readings, explain the error by a missing physical effect, apply it to
