@@ -233,6 +233,16 @@ pub enum Cmd {
         morning: String,
         #[arg(value_parser = super::finite, long, value_name = "HOURS", default_value_t = 4.0)]
         min_hours: f64,
+        /// Temporal map (day of year x hour) of m-EDI, .png or .svg: the room median of
+        /// every step, or --temporal-sensor's; needs --weather.
+        #[arg(long, value_name = "FILE", requires = "weather")]
+        temporal: Option<String>,
+        /// Sensor (1-based matrix row) of the temporal map instead of the room median.
+        #[arg(long, value_name = "N", requires = "temporal", value_parser = clap::value_parser!(u64).range(1..=100_000_000))]
+        temporal_sensor: Option<u64>,
+        /// Colour scale LO,HI of the temporal map in lux of m-EDI (default 0,1000).
+        #[arg(long, value_name = "LO,HI", requires = "temporal")]
+        temporal_range: Option<String>,
     },
     /// One self-contained HTML report of an annual study: room and per-sensor metrics, a
     /// map of every metric, the temporal map, distributions, settings, provenance (inputs
@@ -447,6 +457,9 @@ fn melanopic(cmd: &Cmd, command: Vec<String>) -> Result<MelanopicConfig> {
         weather,
         morning,
         min_hours,
+        temporal,
+        temporal_sensor,
+        temporal_range,
     } = cmd
     else {
         unreachable!("called with the melanopic subcommand")
@@ -469,6 +482,17 @@ fn melanopic(cmd: &Cmd, command: Vec<String>) -> Result<MelanopicConfig> {
             start,
             end,
             min_hours: *min_hours,
+        },
+        temporal: match temporal {
+            None => None,
+            Some(path) => Some(TemporalOptions {
+                path: path.clone(),
+                sensor: temporal_sensor.map(|s| s as usize),
+                range: match temporal_range {
+                    Some(r) => parse_pair(r, "--temporal-range")?,
+                    None => crate::metrics::config::TEMPORAL_RANGE_MEDI_LX,
+                },
+            }),
         },
         command,
     })

@@ -153,3 +153,77 @@ fn radiance_m_agrees_with_rmtxop_c_m() {
     // table: 0.2 % measured.
     assert!(worst < 0.005, "{worst}");
 }
+
+/// `rmetrics melanopic --temporal`: the year's m-EDI as a day x hour map. D65 at 1000 lx
+/// is the top of the default 0-1000 lx scale (viridis' yellow): its cell turns yellow, and
+/// with `--temporal-range 0,5000` it does not; a sensor beyond the matrix is refused.
+#[test]
+fn medi_temporal_map_places_the_steps_on_the_scale() {
+    let t = common::tmpdir();
+    let p = t.path().join("d65.mtx");
+    std::fs::write(&p, d65_matrix()).unwrap();
+    let wea = t.path().join("w.wea");
+    std::fs::write(
+        &wea,
+        "place test\nlatitude 51.15\nlongitude 0.18\ntime_zone 0\nsite_elevation 62\n\
+         weather_data_file_units 1\n6 21 10.5 500 100\n6 21 11.5 400 100\n6 21 12.5 0 50\n",
+    )
+    .unwrap();
+    let yellow = |range: Option<&str>, sensor: Option<&str>| -> usize {
+        let png = t.path().join("year.png");
+        let mut cmd = common::ours("rmetrics");
+        cmd.args(["melanopic", "-o"])
+            .arg(t.path().join("m.mtx"))
+            .arg("-w")
+            .arg(&wea)
+            .arg("--temporal")
+            .arg(&png);
+        if let Some(r) = range {
+            cmd.args(["--temporal-range", r]);
+        }
+        if let Some(s) = sensor {
+            cmd.args(["--temporal-sensor", s]);
+        }
+        common::run_ok(cmd.arg(&p), b"");
+        let img = image::open(&png).unwrap().to_rgb8();
+        assert_eq!((img.width(), img.height()), (1200, 700));
+        // viridis(1) = (253, 231, 37)
+        img.pixels()
+            .filter(|px| {
+                let [r, g, b] = px.0;
+                r > 230 && g > 210 && b < 80
+            })
+            .count()
+    };
+    let (top, wide, one) = (
+        yellow(None, None),
+        yellow(Some("0,5000"), None),
+        yellow(None, Some("2")),
+    );
+    assert!(
+        top > wide + 20,
+        "1000 lx cell at the top of the scale: {top} vs {wide}"
+    );
+    assert_eq!(
+        one, top,
+        "sensor 2 sees what the median of two equal sensors sees"
+    );
+    let out = common::run(
+        common::ours("rmetrics")
+            .args(["melanopic", "-o"])
+            .arg(t.path().join("m.mtx"))
+            .arg("-w")
+            .arg(&wea)
+            .arg("--temporal")
+            .arg(t.path().join("x.png"))
+            .args(["--temporal-sensor", "3"])
+            .arg(&p),
+        b"",
+    );
+    assert_eq!(out.status.code(), Some(1));
+    let e = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        e.contains("--temporal-sensor 3") && e.contains("1 to 2"),
+        "{e}"
+    );
+}

@@ -219,6 +219,10 @@ pub struct TemporalOptions {
 /// The default temporal-map scale: 0 to UDI's upper threshold, 3000 lx.
 pub const TEMPORAL_RANGE_LX: (f64, f64) = (0.0, 3000.0);
 
+/// The default scale of the m-EDI temporal map: 0 to 1000 lx (four times the daytime
+/// recommendation of 250 lx, Brown et al. 2022).
+pub const TEMPORAL_RANGE_MEDI_LX: (f64, f64) = (0.0, 1000.0);
+
 /// `LO,HI` with LO < HI (`--range`, `--temporal-range`).
 pub fn parse_pair(s: &str, what: &str) -> Result<(f64, f64)> {
     let v: Vec<f64> = s
@@ -843,6 +847,9 @@ pub struct MelanopicConfig {
     pub weather: Option<String>,
     /// m-EDI threshold and the daily rule (Brown et al. 2022).
     pub rule: DailyRule,
+    /// Temporal map (day of year x hour) of m-EDI: the room median of every step, or one
+    /// sensor's; needs `weather`.
+    pub temporal: Option<TemporalOptions>,
     /// The command line for the matrix header.
     pub command: Vec<String>,
 }
@@ -873,7 +880,46 @@ impl MelanopicConfig {
             )?;
         }
         crate::formats::matrix::reader::check_data(&self.input, &opts)?;
-        let sums = self.write_matrix(&mut reader, stamps.as_deref(), stdout)?;
+        if self.temporal.is_some() && stamps.is_none() {
+            return Err(Error::Usage(
+                "--temporal: needs --weather (the time stamps of the matrix's columns)".into(),
+            ));
+        }
+        let mut medi_rows: Vec<Vec<f32>> = Vec::new();
+        let sums = self.write_matrix(&mut reader, stamps.as_deref(), stdout, &mut medi_rows)?;
+        if let (Some(t), Some(st)) = (&self.temporal, stamps.as_deref()) {
+            let values = match t.sensor {
+                Some(k) if k >= 1 && k <= medi_rows.len() => {
+                    medi_rows[k - 1].iter().map(|&v| f64::from(v)).collect()
+                }
+                Some(k) => {
+                    return Err(Error::Usage(format!(
+                        "--temporal-sensor {k}: {} has sensors 1 to {}",
+                        self.input,
+                        medi_rows.len()
+                    )));
+                }
+                None => column_medians(&medi_rows),
+            };
+            let which = t
+                .sensor
+                .map_or("room median".to_string(), |k| format!("sensor {k}"));
+            let fig = TemporalFigure {
+                title: format!("Melanopic EDI through the year, {which} (CIE S 026)"),
+                subtitle: format!(
+                    "{}; box: the daily rule's window {}-{} h (m-EDI >= {} lx)",
+                    self.input, self.rule.start, self.rule.end, self.rule.threshold
+                ),
+                unit: "m-EDI (lx)".into(),
+                stamps: st,
+                values: &values,
+                range: t.range,
+                palette: Palette::Viridis,
+                occupied: Some((self.rule.start, self.rule.end)),
+            };
+            fig.check()?;
+            plot::write(&fig, &t.path)?;
+        }
         if let Some(p) = &positions {
             let pts = self.pts.as_deref().unwrap_or("");
             check_points(pts, p.len(), &self.input, sums.len())?;
@@ -941,6 +987,7 @@ impl MelanopicConfig {
         reader: &mut crate::formats::matrix::MatrixReader<R>,
         stamps: Option<&[Stamp]>,
         stdout: &mut dyn Write,
+        medi_rows: &mut Vec<Vec<f32>>,
     ) -> Result<Vec<Summary>> {
         use crate::formats::header::Header;
         use crate::formats::matrix::{DataFormat, MatrixWriter, WriteOptions};
@@ -961,7 +1008,12 @@ impl MelanopicConfig {
                 WriteOptions::new(DataFormat::Ascii),
             )?;
             let mut row = Vec::new();
+            let keep = self.temporal.is_some();
             sums = melanopic::reduce(reader, self.rule.threshold, daily, |_, vals| {
+                if keep {
+                    // f32 per sensor and step, as the illuminance temporal map keeps them.
+                    medi_rows.push(vals.iter().map(|m| m.medi as f32).collect());
+                }
                 row.clear();
                 row.extend(vals.iter().map(|m| self.quantity.of(m)));
                 mw.write_row(&row)
