@@ -164,17 +164,15 @@ fn the_main_jobs_products_stay_under_150_mb() {
     let (nsens, hours) = (165usize, 8760usize);
     let daytime = |h: usize| (7..19).contains(&(h % 24));
     let run_product = |left: &Path, right: &Path| -> (Vec<u8>, f64) {
-        let (out, peak) = run_measured(
-            ours("rmtx").args([
-                "-ff",
-                "-c",
-                "47.4",
-                "119.9",
-                "11.6",
-                &path(left),
-                &path(right),
-            ]),
-        );
+        let (out, peak) = run_measured(ours("rmtx").args([
+            "-ff",
+            "-c",
+            "47.4",
+            "119.9",
+            "11.6",
+            &path(left),
+            &path(right),
+        ]));
         assert!(
             out.status.success(),
             "{}",
