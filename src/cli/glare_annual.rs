@@ -114,6 +114,21 @@ pub fn command() -> clap::Command {
             )
             .value_hint(ValueHint::FilePath),
         )
+        .arg(
+            value(
+                "temporal",
+                "FILE",
+                "Temporal map (day of year x hour) of each view's DGP, .png or .svg; with \
+                 several views, FILE gets -viewN before its extension",
+            )
+            .value_hint(ValueHint::FilePath),
+        )
+        .arg(value(
+            "temporal-range",
+            "LO,HI",
+            "DGP scale of the temporal map (default 0.2,0.6: imperceptible below 0.35, \
+             intolerable above 0.45)",
+        ))
         .arg(value(
             "shard",
             "K/N",
@@ -248,6 +263,9 @@ pub struct AnnualArgs {
     pub rdc: super::rdc::Options,
     /// `--views FILE`: one view per line on top of `view`.
     pub views: Option<String>,
+    /// `--temporal FILE`: day x hour map of DGP per view; `--temporal-range`.
+    pub temporal: Option<String>,
+    pub temporal_range: (f64, f64),
     /// `--shard K/N`: only these views, framed as a text shard.
     pub shard: Option<Shard>,
     /// `--manifest FILE` (with `--shard`).
@@ -308,6 +326,8 @@ impl AnnualArgs {
         };
         let mut out = None;
         let mut views = None;
+        let mut temporal = None;
+        let mut temporal_range = DGP_RANGE;
         let mut shard = None;
         let mut manifest = None;
         let mut pass = vec!["rdc".to_string()];
@@ -393,6 +413,14 @@ impl AnnualArgs {
                     i += 1;
                     views = Some(value(&rest, i, a)?.to_string());
                 }
+                "--temporal" => {
+                    i += 1;
+                    temporal = Some(value(&rest, i, a)?.to_string());
+                }
+                "--temporal-range" => {
+                    i += 1;
+                    temporal_range = crate::metrics::config::parse_pair(value(&rest, i, a)?, a)?;
+                }
                 "--shard" => {
                     i += 1;
                     shard = Some(Shard::parse(value(&rest, i, a)?, a)?);
@@ -442,7 +470,7 @@ impl AnnualArgs {
             .into_iter()
             .chain(super::without_options(
                 raw,
-                &["--shard", "--manifest", "-o"],
+                &["--shard", "--manifest", "-o", "--temporal"],
             ))
             .collect();
         let view_files = raw
@@ -460,6 +488,8 @@ impl AnnualArgs {
             out,
             rdc,
             views,
+            temporal,
+            temporal_range,
             shard,
             manifest,
             command,
@@ -663,6 +693,30 @@ fn write_output(out: Option<&str>, f: impl FnOnce(&mut dyn Write) -> Result<()>)
     }
 }
 
+/// Default DGP scale of the temporal map: glare is imperceptible below 0.35 and
+/// intolerable above 0.45 (Wienold 2009's classes), so 0.2-0.6 shows both ends.
+const DGP_RANGE: (f64, f64) = (0.2, 0.6);
+
+/// The temporal map's file for view `i` of `n`: `FILE` itself for one view, else `-viewI`
+/// before the extension.
+fn temporal_path(file: &str, i: usize, n: usize) -> String {
+    if n <= 1 {
+        return file.to_string();
+    }
+    let p = std::path::Path::new(file);
+    match (p.file_stem(), p.extension()) {
+        (Some(stem), Some(ext)) => p
+            .with_file_name(format!(
+                "{}-view{i}.{}",
+                stem.to_string_lossy(),
+                ext.to_string_lossy()
+            ))
+            .display()
+            .to_string(),
+        _ => format!("{file}-view{i}"),
+    }
+}
+
 /// Run `rglare annual` with the arguments after `annual`.
 pub fn run(raw: &[String]) -> Result<()> {
     if raw.iter().any(|a| a == "--version") {
@@ -693,6 +747,25 @@ pub fn run(raw: &[String]) -> Result<()> {
         let c = annual::coefficients(&base, &scene, &rays, &args.weather, args.eye_ad, &progress)?;
         let results = annual::evaluate(&c, &rays, &weather, &args.opts, &progress)?;
         let summary = annual::summary(&results, &sched.occupied, args.opts.limit);
+        if let Some(file) = &args.temporal {
+            let stamps = crate::metrics::schedule::stamps_from_weather(&weather);
+            let dgp: Vec<f64> = results.iter().map(|r| r.dgp).collect();
+            let fig = crate::metrics::figures::TemporalFigure {
+                title: format!("Daylight glare probability through the year, view {i}"),
+                subtitle: format!(
+                    "{}; DGP >= {} counts against glare autonomy; box: occupied hours",
+                    args.weather, args.opts.limit
+                ),
+                unit: "DGP".into(),
+                stamps: &stamps,
+                values: &dgp,
+                range: args.temporal_range,
+                palette: crate::metrics::plot::Palette::Viridis,
+                occupied: args.schedule.occupied,
+            };
+            fig.check()?;
+            crate::metrics::plot::write(&fig, &temporal_path(file, i, items.len()))?;
+        }
         let mut text = match (&args.views, item.line) {
             (Some(f), Some(l)) => {
                 format!("# view {i} of {} (0-based; {f} line {l})\n", items.len())

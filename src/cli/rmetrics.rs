@@ -192,6 +192,8 @@ pub struct SchedArgs {
     pub all_steps: bool,
 }
 
+// One value per run, parsed once: boxing clap's variants would buy nothing.
+#[allow(clippy::large_enum_variant)]
 #[derive(Subcommand)]
 pub enum Cmd {
     /// Melanopic quantities from a spectral irradiance matrix (NCOMP > 3, Radiance band

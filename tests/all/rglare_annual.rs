@@ -258,6 +258,37 @@ fn summary_matches_the_rows_and_the_occupancy() {
         assert!(r.dgp > 0.0 && r.dgp <= 1.0);
         assert!(!r.sun || r.nsrc >= 1);
     }
+    // The DGP temporal map: the same rows with it, a page-sized figure, on the scale asked.
+    let t = common::tmpdir();
+    let map = |range: &str| {
+        let png = t.path().join(format!("dgp-{range}.png"));
+        let with = run_annual(&[
+            "-w",
+            "glare/annual/hours.wea",
+            "--rays",
+            "16",
+            "-ab",
+            "1",
+            "-ad",
+            "16",
+            "--eye-ad",
+            "256",
+            "--occupied",
+            "9-13",
+            "-l",
+            "0.5",
+            "--temporal",
+            png.to_str().unwrap(),
+            "--temporal-range",
+            range,
+            "scenes/furnished.rad",
+        ]);
+        assert_eq!(with, text, "--temporal changes no result");
+        let img = image::open(&png).unwrap().to_rgb8();
+        assert_eq!((img.width(), img.height()), (1200, 700));
+        img
+    };
+    assert_ne!(map("0.2,0.6"), map("0,1"), "the DGP scale is applied");
 }
 
 #[test]

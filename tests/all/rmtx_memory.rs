@@ -10,7 +10,7 @@
 
 use crate::common;
 
-use common::{ours, repo, run, run_ok, tmpdir};
+use common::{ours, repo, run_ok, tmpdir};
 use rdaylight::formats::matrix::{Matrix, ReadOptions};
 use std::io::Write;
 use std::path::Path;
@@ -116,6 +116,8 @@ fn outer_order_gives_the_held_orders_bytes() {
 /// from `wait4` on that child: the tests of this binary run in one process, so the
 /// process-wide `RUSAGE_CHILDREN` would also count other tests' children (`ru_maxrss` is
 /// KiB on Linux, bytes on macOS).
+// The child is reaped by `wait4` below, which also returns its resource usage.
+#[allow(clippy::zombie_processes)]
 fn run_measured(cmd: &mut std::process::Command) -> (std::process::Output, f64) {
     use std::io::Read;
     use std::os::unix::process::ExitStatusExt;
