@@ -114,7 +114,7 @@ radiance-example: radiance
 	@echo "ours:     $$(grep '^room' $(OUT)/metrics.tsv)"
 	@echo "Radiance: $$(grep '^room' $(OUT)/radiance/metrics.tsv)"
 	$(BIN)/rmetrics compare $(OUT)/radiance/metrics.tsv $(OUT)/metrics.tsv
-	@$(call TAI_SPREAD,$(OUT)/metrics.tsv,$(OUT)/radiance/metrics.tsv,ours against Radiance      )
+	@$(call TAI_SPREAD,$(OUT)/metrics.tsv,$(OUT)/radiance/metrics.tsv,ours against Radiance)
 	@$(call TAI_SPREAD,$(OUT)/radiance/metrics2.tsv,$(OUT)/radiance/metrics.tsv,Radiance against Radiance)
 	@echo "(the second Radiance run: rcontrib -u+, independent samples; ours against Radiance within"
 	@echo " Radiance's own run-to-run spread means the difference is Monte Carlo noise)"
@@ -122,7 +122,7 @@ radiance-example: radiance
 # Per-sensor |a-b|/b of TAI (column 5 of rmetrics' table) between two metrics tables.
 TAI_SPREAD = paste <(grep '^[0-9]' $(1) | cut -f5) <(grep '^[0-9]' $(2) | cut -f5) \
 	  | awk '{d=($$1-$$2)/$$2; if(d<0)d=-d; print d*100}' | sort -g \
-	  | awk '{a[NR]=$$1} END {printf "per-sensor TAI, $(3): median %.2f %%, p95 %.2f %%, max %.2f %% (%d sensors)\n", a[int((NR+1)/2)], a[int(NR*0.95)], a[NR], NR}'
+	  | awk '{a[NR]=$$1} END {printf "per-sensor TAI, %-25s median %.2f %%, p95 %.2f %%, max %.2f %% (%d sensors)\n", "$(strip $(3)):", a[int((NR+1)/2)], a[int(NR*0.95)], a[NR], NR}'
 
 # Installs real Radiance (pyradiance) when missing, starts a single-host Slurm for
 # tests/all/slurm.rs (examples/slurm/start.sh: installs slurm-wlm and munge with apt-get when
