@@ -297,6 +297,7 @@ impl Common {
             rough: self.rough,
             table: self.table.clone(),
             table_res: self.table_res,
+            progress: super::progress::Bars::reporter("ruplift"),
         }
     }
 }

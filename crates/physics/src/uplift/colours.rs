@@ -40,6 +40,8 @@ pub struct Config {
     pub table: Option<PathBuf>,
     /// Entries per axis of a table being built.
     pub table_res: usize,
+    /// Where building the table reports its progress.
+    pub progress: crate::progress::Reporter,
 }
 
 impl Config {
@@ -57,7 +59,7 @@ impl Config {
             if self.method != Method::Jakob {
                 return Err(Error::Usage("--table is for --method jakob".into()));
             }
-            let t = JakobTable::build(self.space, self.table_res)?;
+            let t = JakobTable::build_reporting(self.space, self.table_res, self.progress.get())?;
             crate::io::write_atomically(path, |w| t.write(w).at_path(&shown))?;
             t
         };

@@ -78,6 +78,15 @@ impl JakobTable {
 
     /// Fit every entry (in parallel).
     pub fn build(space: RgbSpace, res: usize) -> Result<JakobTable> {
+        Self::build_reporting(space, res, &crate::progress::QUIET)
+    }
+
+    /// [`JakobTable::build`], its fits reported as one stage of `progress`.
+    pub fn build_reporting(
+        space: RgbSpace,
+        res: usize,
+        progress: &dyn crate::progress::Progress,
+    ) -> Result<JakobTable> {
         if !(2..=MAX_RES).contains(&res) {
             return Err(Error::Usage(format!(
                 "table resolution must be 2..{MAX_RES}, got {res}"
@@ -85,6 +94,12 @@ impl JakobTable {
         }
         let obs = Observer::new(space);
         let z = Self::z_grid(res);
+        let stage = crate::progress::Stage::new(
+            progress,
+            "Jakob-Hanika coefficient table",
+            Some((3 * res * res * res) as u64),
+            "fits",
+        );
         let coeffs = (0..3 * res * res * res)
             .into_par_iter()
             .map(|idx| {
@@ -100,6 +115,7 @@ impl JakobTable {
                 rgb[(i + 2) % 3] = j as f64 * step * zz;
                 // Encoded values for sRGB: the table is indexed by what the user gives.
                 let (m, _) = Jakob::fit(&obs, obs.rgb_to_xyz(rgb));
+                stage.advance(1);
                 m.c.map(|v| v as f32)
             })
             .collect();
