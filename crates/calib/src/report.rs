@@ -8,6 +8,7 @@ use super::compare::Comparison;
 use super::explain::Explanation;
 use super::stats::Stats;
 use super::svg::{Plot, Series, diverging, plan};
+use rdaylight_metrics::html::escape as esc;
 use serde::Serialize;
 
 fn line(s: &Stats) -> String {
@@ -349,12 +350,6 @@ pub fn html(
         )?,
     );
     Ok(page.render())
-}
-
-fn esc(s: &str) -> String {
-    s.replace('&', "&amp;")
-        .replace('<', "&lt;")
-        .replace('>', "&gt;")
 }
 
 /// The JSON document: comparisons and explanation.

@@ -4,6 +4,8 @@
 //! self-contained `<svg>` text (no fonts to install, no external files: the HTML report
 //! inlines them). Only what the report draws.
 
+use rdaylight_metrics::html::escape as esc;
+
 /// One set of points.
 pub struct Series {
     pub points: Vec<(f64, f64)>,
@@ -35,12 +37,6 @@ const L: f64 = 60.0;
 const R: f64 = 15.0;
 const T: f64 = 30.0;
 const B: f64 = 45.0;
-
-fn esc(s: &str) -> String {
-    s.replace('&', "&amp;")
-        .replace('<', "&lt;")
-        .replace('>', "&gt;")
-}
 
 /// "Nice" tick values covering [lo, hi].
 fn ticks(lo: f64, hi: f64, log: bool) -> Vec<f64> {

@@ -16,6 +16,7 @@
 
 use crate::study::Results;
 use rdaylight_base::{Error, Result};
+use rdaylight_metrics::html::escape as esc;
 use std::fmt::Write as _;
 
 fn opt(v: Option<f64>, digits: usize) -> String {
@@ -137,10 +138,6 @@ pub fn json(r: &Results) -> Result<String> {
 const PALETTE: [&str; 8] = [
     "#9ecae1", "#6baed6", "#3182bd", "#08519c", "#08306b", "#74c476", "#fd8d3c", "#969696",
 ];
-
-fn esc(s: &str) -> String {
-    s.replace('&', "&amp;").replace('<', "&lt;")
-}
 
 /// A nice step for about `n` ticks over `span`.
 fn tick_step(span: f64, n: f64) -> f64 {

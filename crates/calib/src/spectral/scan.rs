@@ -20,6 +20,7 @@
 
 use super::SpectralModel;
 use crate::stats::{Stats, pearson};
+use rdaylight_metrics::html::escape as esc;
 use serde::Serialize;
 
 /// One window option.
@@ -259,12 +260,6 @@ pub fn text(s: &SpectralScan) -> String {
         s.options[s.best].name, s.options[s.best].factor, s.effect
     ));
     out
-}
-
-fn esc(s: &str) -> String {
-    s.replace('&', "&amp;")
-        .replace('<', "&lt;")
-        .replace('>', "&gt;")
 }
 
 /// A self-contained HTML page with Table 6.3 and Table 6.4 (and the explanation text).
