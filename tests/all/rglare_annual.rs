@@ -218,7 +218,7 @@ fn imageless_dgp_agrees_with_evalglare_on_rpict_pictures() {
 
 #[test]
 fn summary_matches_the_rows_and_the_occupancy() {
-    let text = run_annual(&[
+    let args = [
         "-w",
         "glare/annual/hours.wea",
         "--rays",
@@ -233,8 +233,8 @@ fn summary_matches_the_rows_and_the_occupancy() {
         "9-13",
         "-l",
         "0.5",
-        "scenes/furnished.rad",
-    ]);
+    ];
+    let text = run_annual(&[&args[..], &["scenes/furnished.rad"]].concat());
     let rows = parse_rows(&text);
     let occ: Vec<&Row> = rows
         .iter()
@@ -262,27 +262,14 @@ fn summary_matches_the_rows_and_the_occupancy() {
     let t = common::tmpdir();
     let map = |range: &str| {
         let png = t.path().join(format!("dgp-{range}.png"));
-        let with = run_annual(&[
-            "-w",
-            "glare/annual/hours.wea",
-            "--rays",
-            "16",
-            "-ab",
-            "1",
-            "-ad",
-            "16",
-            "--eye-ad",
-            "256",
-            "--occupied",
-            "9-13",
-            "-l",
-            "0.5",
+        let map_args = [
             "--temporal",
             png.to_str().unwrap(),
             "--temporal-range",
             range,
             "scenes/furnished.rad",
-        ]);
+        ];
+        let with = run_annual(&[&args[..], &map_args[..]].concat());
         assert_eq!(with, text, "--temporal changes no result");
         let img = image::open(&png).unwrap().to_rgb8();
         assert_eq!((img.width(), img.height()), (1200, 700));
