@@ -22,11 +22,13 @@
 //! ```
 
 pub mod bvh;
+pub mod klems;
 pub mod ray;
 pub mod shapes;
 pub mod triangulate;
 
 pub use bvh::{BuildError, Bvh};
+pub use klems::{KlemsBasis, KlemsFrame, KlemsKind};
 pub use ray::{Hit, Ray, offset_distance};
 pub use rdaylight_base::vec3::{self, Vec3};
 pub use shapes::{Object, Shape, ShapeError};
