@@ -7,7 +7,7 @@
 
 use crate::error::{Error, Result};
 use crate::formats::hours::HourSpan;
-use crate::formats::matrix::{DataFormat, Pipeline, ReadOptions};
+use crate::formats::matrix::{DataFormat, Pipeline, ReadOptions, Term};
 use clap::{CommandFactory, FromArgMatches, Parser};
 
 pub const EXAMPLES: &str = "\
@@ -31,6 +31,9 @@ Examples:
     rmtx --cat-columns ill.0.mtx ill.1.mtx > ill.mtx
   The same as array task K of N (the K-th of N blocks of hours), with manifests:
     rmtx -ff dc.mtx sky.smx --hours $K/$N --manifest ill.$K.json > ill.$K.mtx
+  The five-phase combination in one streamed pass (3-phase total, minus its direct part,
+  plus the sun coefficients; products bind tighter than +):
+    rmtx -fa V.mtx T.mtx D.mtx sky.smx + -s -1 Vd.mtx T.mtx Dd.mtx skyd.smx + cds.mtx suns.smx
   Which rdc shards are complete (one line each; status 1 names the others):
     rmtx --verify dc.0.mtx dc.1.mtx dc.2.mtx --manifests m0.json m1.json m2.json";
 
@@ -43,7 +46,10 @@ Examples:
 /// are streamed into the result (same bytes; an MF 4 year takes 78 MB). Shapes and NCOMP of
 /// every input are checked before anything is written. -c, -s and -t apply to the result
 /// wherever they appear (unlike rmtxop, where options before a matrix apply to that matrix).
-/// EXPOSURE=/COLORCORR= in input headers are divided out on load, as rmtxop does.
+/// EXPOSURE=/COLORCORR= in input headers are divided out on load, as rmtxop does. `+`
+/// between inputs adds products, each streamed in lock step; products bind tighter than
+/// `+` (rmtxop evaluates strictly left to right: the same wherever each added term is a
+/// single matrix).
 #[derive(Parser, Debug)]
 #[command(name = "rmtx", version, disable_help_flag = true, after_help = EXAMPLES)]
 pub struct Options {
@@ -136,9 +142,77 @@ pub struct Options {
     #[arg(long = "help", action = clap::ArgAction::Help)]
     pub help: Option<bool>,
 
-    /// Matrix files; `-` is standard input (the default when none is given).
-    #[arg(value_name = "FILE|-")]
+    /// Matrix files; `-` is standard input (the default when none is given). `+` between
+    /// them adds products (rmtxop's `+`): `rmtx V T D s + -s -1 Vd T Dd sd + Cds ssun` is
+    /// the five-phase combination; `-s F` right after a `+` scales that term, any other
+    /// `-s`/`-c` the sum.
+    #[arg(value_name = "FILE|-|+")]
     pub inputs: Vec<String>,
+
+    /// The terms after the first `+`, with their factors (filled by [`Options::parse_from`]).
+    #[arg(skip)]
+    pub terms: Vec<(Vec<String>, f64)>,
+}
+
+/// Split command-line inputs (with their positions) at `+` into the first product chain and
+/// the added terms; a `-s` value written between a `+` and the term's first matrix is that
+/// term's factor (rmtxop's rule), every other `-s` value scales the sum.
+#[allow(clippy::type_complexity)]
+fn sum_terms(
+    inputs: &[(usize, String)],
+    scale_at: &[(usize, String)],
+) -> Result<(Vec<String>, Vec<(Vec<String>, f64)>, Vec<f64>)> {
+    let mut chains: Vec<(usize, Vec<String>)> = vec![(0, Vec::new())];
+    for (i, v) in inputs {
+        if v == "+" {
+            chains.push((*i, Vec::new()));
+        } else if let Some(c) = chains.last_mut() {
+            c.1.push(v.clone());
+        }
+    }
+    let first_matrix = inputs.iter().find(|(_, v)| v != "+").map(|(i, _)| *i);
+    let mut factors = vec![1.0; chains.len()];
+    let mut result_scale = Vec::new();
+    for (i, v) in scale_at {
+        let x: f64 = v.parse().unwrap_or(f64::NAN);
+        // The term whose `+` precedes this value with no matrix in between.
+        let term = chains.iter().enumerate().skip(1).find(|(_, (plus, _))| {
+            *plus < *i
+                && !inputs
+                    .iter()
+                    .any(|(j, w)| w != "+" && *j > *plus && *j < *i)
+        });
+        match term {
+            Some((k, _)) => {
+                if factors[k] != 1.0 || !x.is_finite() {
+                    return Err(Error::Usage(format!(
+                        "-s after the + of term {}: one finite factor per term",
+                        k + 1
+                    )));
+                }
+                factors[k] = x;
+            }
+            None if first_matrix.is_some_and(|f| *i < f) => {
+                return Err(Error::Usage(
+                    "-s before the first matrix of a sum is ambiguous: write it after a + \
+                     to scale that term, or after the last matrix to scale the sum"
+                        .into(),
+                ));
+            }
+            None => result_scale.push(x),
+        }
+    }
+    if let Some(k) = chains.iter().position(|(_, c)| c.is_empty()) {
+        return Err(Error::Usage(if k == 0 {
+            "+ with no matrix before it: expected matrix files on both sides of +".into()
+        } else {
+            format!("+ number {k} has no matrix after it: expected matrix files on both sides of +")
+        }));
+    }
+    let mut it = chains.into_iter().map(|(_, c)| c);
+    let first = it.next().unwrap_or_default();
+    let terms = it.zip(factors.into_iter().skip(1)).collect();
+    Ok((first, terms, result_scale))
 }
 
 impl Options {
@@ -173,9 +247,20 @@ impl Options {
             vals[..n].iter().map(|(_, v)| v.clone()).collect::<Vec<_>>()
         };
         opts.coefs = split("coefs", true, &mut inputs);
+        let scale_at: Vec<(usize, String)> = indexed(&m, "scale")
+            .into_iter()
+            .take_while(|(_, v)| v.parse::<f64>().is_ok())
+            .collect();
         opts.scale = split("scale", false, &mut inputs);
         inputs.sort_by_key(|(i, _)| *i);
-        opts.inputs = inputs.into_iter().map(|(_, v)| v).collect();
+        if inputs.iter().any(|(_, v)| v == "+") {
+            let (first, terms, scale) = sum_terms(&inputs, &scale_at)?;
+            opts.inputs = first;
+            opts.terms = terms;
+            opts.scale = scale.iter().map(|x| x.to_string()).collect();
+        } else {
+            opts.inputs = inputs.into_iter().map(|(_, v)| v).collect();
+        }
         Ok(opts)
     }
 
@@ -208,6 +293,14 @@ impl Options {
                 .transpose()?,
             manifest: self.manifest.clone(),
             verify: self.verify,
+            terms: self
+                .terms
+                .iter()
+                .map(|(inputs, scale)| Term {
+                    inputs: inputs.clone(),
+                    scale: *scale,
+                })
+                .collect(),
         })
     }
 }

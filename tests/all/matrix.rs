@@ -364,6 +364,37 @@ fn rmtx_products_match_dctimestep_and_rmtxop() {
     let a = real("rmtxop", &["-fa", "dc.mtx", "T.mtx", "sky.mtx"]);
     let b = ours(&["-fa", "dc.mtx", "T.mtx", "sky.mtx"]);
     within("rmtx dc T sky vs rmtxop dc T sky", rel(&b, &a), 1e-5);
+    // The five-phase shape of a sum: products bind tighter than `+`, a `-s` after a `+`
+    // scales its term. Against rmtxop summing the three products it computed separately
+    // (rmtxop evaluates strictly left to right, so its `+` is only given single matrices).
+    for (name, args) in [
+        ("e3.mtx", vec!["-fa", "dc.mtx", "T.mtx", "sky.mtx"]),
+        ("e3d.mtx", vec!["-fa", "-s", "0.25", "dc.mtx", "sky.mtx"]),
+        ("eds.mtx", vec!["-fa", "dc.mtx", "sky.mtx"]),
+    ] {
+        let out = common::run_ok(common::radiance("rmtxop").current_dir(d).args(args), b"");
+        std::fs::write(d.join(name), out).unwrap();
+    }
+    let a = real(
+        "rmtxop",
+        &[
+            "-fa", "e3.mtx", "+", "-s", "-1", "e3d.mtx", "+", "eds.mtx", "-c", "Y",
+        ],
+    );
+    let b = ours(&[
+        "-fa", "dc.mtx", "T.mtx", "sky.mtx", "+", "-s", "-0.25", "dc.mtx", "sky.mtx", "+",
+        "dc.mtx", "sky.mtx", "-c", "Y",
+    ]);
+    within(
+        "rmtx V T D s + -s -f Vd sd + Cds s vs rmtxop sums",
+        rel(&b, &a),
+        1e-5,
+    );
+    // Terms of different shapes are refused before anything is written.
+    let bad = common::run(rmtx(d).args(["dc.mtx", "sky.mtx", "+", "T.mtx"]), b"");
+    assert_eq!(bad.status.code(), Some(1));
+    assert!(bad.stdout.is_empty());
+    assert!(String::from_utf8_lossy(&bad.stderr).contains("same shape"));
     // Symbolic -c Y: like rmtxop, 179 x row Y of the RGB-to-XYZ matrix of Radiance's
     // standard primaries (47.45394 119.94894 11.59712), computed in float by rmtxop.
     let y = ours(&["-fa", "-c", "Y", "dc.mtx", "sky.mtx"]);

@@ -38,7 +38,7 @@ pub mod writer;
 pub use memory::Matrix;
 pub use operand::{Operand, Outer};
 pub use ops::{ChannelTransform, RowOps, Shape};
-pub use pipeline::Pipeline;
+pub use pipeline::{Pipeline, Term};
 pub use reader::{MatrixReader, ReadOptions};
 pub use writer::{MatrixWriter, WriteOptions};
 

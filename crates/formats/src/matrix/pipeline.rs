@@ -78,6 +78,20 @@ pub struct Pipeline {
     /// input in `manifests`) and report one line per shard instead of merging: what a
     /// resume needs to know which shards to run again ([`Pipeline::verify_shards`]).
     pub verify: bool,
+    /// Further product chains added to the product of `inputs`, each times its factor
+    /// (rmtxop's `+`): the five-phase combination `V T D s - Vd T Dd sd + Cds ssun` in one
+    /// streamed pass. Every term must give the same NROWS, NCOLS and NCOMP; `coefs`,
+    /// `scale` and `hours` apply to the sum (hours: to each term's right-most matrix).
+    pub terms: Vec<Term>,
+}
+
+/// One added term of a sum ([`Pipeline::terms`]): a product chain and its factor.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Term {
+    /// Matrix files multiplied left to right, as [`Pipeline::inputs`].
+    pub inputs: Vec<String>,
+    /// Factor of the term (`-1` subtracts it).
+    pub scale: f64,
 }
 
 /// The inputs, opened and checked, ready to stream.
@@ -176,6 +190,9 @@ impl Pipeline {
         self.check_options(&inputs)?;
         if self.verify {
             return self.verify_shards(&inputs, out, name);
+        }
+        if !self.terms.is_empty() {
+            return self.run_sum(&inputs, out, name, progress);
         }
         if self.stack {
             if let Some(shards) = self.shard_headers(&inputs)? {
@@ -331,6 +348,167 @@ impl Pipeline {
             }
         }
         Ok(o)
+    }
+
+    /// [`Pipeline::terms`]: every term's first input streamed in lock step, each row
+    /// multiplied through its own chain and factor, the sum transformed and scaled.
+    fn run_sum<W: Write>(
+        &self,
+        inputs: &[String],
+        out: W,
+        name: &str,
+        progress: &dyn Progress,
+    ) -> Result<()> {
+        if self.stack || self.columns || self.manifest.is_some() {
+            return Err(Error::Usage(
+                "a sum of products (+) takes no --cat, --cat-columns or --manifest".into(),
+            ));
+        }
+        let mut terms = vec![Term {
+            inputs: inputs.to_vec(),
+            scale: 1.0,
+        }];
+        terms.extend(self.terms.iter().cloned());
+        let all: Vec<String> = terms.iter().flat_map(|t| t.inputs.clone()).collect();
+        self.check_options(&all)?;
+        if let Some(t) = terms.iter().find(|t| t.inputs.is_empty()) {
+            return Err(Error::Usage(format!(
+                "+ with no matrix after it (term factor {}): expected a matrix file",
+                t.scale
+            )));
+        }
+        if let Some(t) = terms.iter().find(|t| !t.scale.is_finite()) {
+            return Err(Error::Usage(format!(
+                "-s {}: expected a finite factor",
+                t.scale
+            )));
+        }
+        let mut opened = Vec::new();
+        let mut ops = Vec::new();
+        for t in &terms {
+            let mut o = self.open(&t.inputs)?;
+            let ncomp = o.readers[0].ncomp();
+            let chain = std::mem::take(&mut o.chain);
+            ops.push(RowOps::new(ncomp, chain, None, Some(vec![t.scale; ncomp])));
+            opened.push(o);
+        }
+        // Every term's shape, before anything is written.
+        let shape = |k: usize, o: &Opened, r: &RowOps| {
+            (o.nrows, r.out_ncols(o.in_ncols()), o.readers[0].ncomp(), k)
+        };
+        let (nrows, ncols, ncomp, _) = shape(0, &opened[0], &ops[0]);
+        for (k, (o, r)) in opened.iter().zip(&ops).enumerate().skip(1) {
+            let (n, c, m, _) = shape(k, o, r);
+            if (n.is_some() && nrows.is_some() && n != nrows) || c != ncols || m != ncomp {
+                let show = |n: Option<usize>| n.map_or("?".to_string(), |n| n.to_string());
+                return Err(Error::Mismatch(format!(
+                    "term {} of the sum ({}) gives {} x {} x {} but the first term ({}) gives \
+                     {} x {} x {} (rows x columns x components): every term must have the \
+                     same shape",
+                    k + 1,
+                    terms[k].inputs.join(" "),
+                    show(n),
+                    c,
+                    m,
+                    terms[0].inputs.join(" "),
+                    show(nrows),
+                    ncols,
+                    ncomp
+                )));
+            }
+        }
+        let first_ch = opened[0].readers[0].info().channels;
+        let transform = if self.coefs.is_empty() {
+            None
+        } else {
+            let ch = Channels { ncomp, ..first_ch };
+            Some(ChannelTransform::parse_for(&self.coefs, &ch, "result")?)
+        };
+        let out_ncomp = transform.as_ref().map_or(ncomp, |t| t.nout);
+        let factors = if self.scale.is_empty() {
+            None
+        } else {
+            Some(scale_factors(&self.scale, out_ncomp)?)
+        };
+        let mut last = RowOps::new(ncomp, Vec::new(), transform, factors);
+        let channels = Channels {
+            ncomp: out_ncomp,
+            ..first_ch
+        };
+        let mut wopts = self.write_options(&opened[0], out_ncomp);
+        if opened.iter().all(|o| o.all_double) {
+            wopts.ascii_digits = DOUBLE_DIGITS;
+        }
+        let mut header = Header::new();
+        header.push_command(&self.command);
+        if let Some(h) = &opened[0].hours {
+            header.push(h.line());
+        }
+        let nrows = opened.iter().find_map(|o| o.nrows);
+        let mut rows: Vec<Vec<f64>> = opened
+            .iter()
+            .map(|o| vec![0.0; o.in_ncols() * ncomp])
+            .collect();
+        let mut acc = vec![0.0; ncols * ncomp];
+        let stage = Stage::new(progress, "sum of products", nrows.map(|n| n as u64), "rows");
+        let mut result = Vec::new();
+        // The writer, or the output waiting for the transposed result.
+        let mut sink = if self.transpose {
+            Err(out)
+        } else {
+            Ok(MatrixWriter::new(
+                out,
+                name,
+                header.clone(),
+                nrows,
+                ncols,
+                channels,
+                wopts,
+            )?)
+        };
+        let mut done = 0usize;
+        loop {
+            let mut more = Vec::with_capacity(opened.len());
+            for (o, row) in opened.iter_mut().zip(rows.iter_mut()) {
+                more.push(o.next_row(row)?);
+            }
+            if more.iter().all(|m| !m) {
+                break;
+            }
+            if let Some(k) = more.iter().position(|m| !m) {
+                return Err(Error::Mismatch(format!(
+                    "term {} of the sum ({}) ended after {done} rows while the others go on",
+                    k + 1,
+                    terms[k].inputs.join(" ")
+                )));
+            }
+            acc.iter_mut().for_each(|a| *a = 0.0);
+            for (r, row) in ops.iter_mut().zip(&rows) {
+                for (a, v) in acc.iter_mut().zip(r.apply(row)) {
+                    *a += v;
+                }
+            }
+            let v = last.apply(&acc);
+            match &mut sink {
+                Ok(w) => w.write_row(v)?,
+                Err(_) => result.extend_from_slice(v),
+            }
+            done += 1;
+            stage.advance(1);
+        }
+        drop(stage);
+        match sink {
+            Ok(w) => w.finish().map(|_| ()),
+            Err(out) => Matrix {
+                nrows: done,
+                ncols,
+                channels,
+                data: result,
+            }
+            .transpose()
+            .write(out, name, header, wopts)
+            .map(|_| ()),
+        }
     }
 
     fn write_options(&self, o: &Opened, out_ncomp: usize) -> WriteOptions {
@@ -1035,6 +1213,7 @@ mod tests {
             hours: None,
             manifest: None,
             verify: false,
+            terms: Vec::new(),
         }
     }
 
