@@ -327,9 +327,9 @@ mod tests {
             assert!((omega - 2.0 * PI).abs() < 1e-12, "{omega}");
             assert!((lambda - PI).abs() < 1e-12, "{lambda}");
         }
-        // WINDOW's full-basis lambda of the central patch: pi sin^2(5 deg) = 0.0238.
+        // The full basis's central patch: pi sin^2(5 deg) = 0.023864.
         let b = KlemsBasis::new(KlemsKind::Full);
-        assert!((b.lambda(0) - 0.023_786).abs() < 1e-5);
+        assert!((b.lambda(0) - 0.023_864).abs() < 1e-6);
     }
 
     #[test]
