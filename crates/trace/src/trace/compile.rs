@@ -24,7 +24,8 @@
 //!   transmittance of glazing, spectral suns and skies (together with a sky `brightfunc`).
 //!
 //! Refused with `Error::unsupported` at the object's `file:line` (so nothing is silently
-//! rendered wrong): `instance`, `mesh` and other surface types; other patterns, textures and
+//! rendered wrong): surface types other than those above and `mesh`/`instance` (flattened
+//!   first: [`super::expand`]); other patterns, textures and
 //! mixtures on surfaces (`specpict` and other picture or data patterns, textures, `-i`
 //! transform arrays on function-file patterns); materials other than
 //! plastic/metal/trans/glass/mirror/glow (e.g. BSDF, `spotlight`); *local* direct sources
@@ -59,6 +60,8 @@ pub struct Renderable {
     /// Per BVH object id.
     pub(super) surfaces: Vec<SurfaceInfo>,
     pub(super) materials: Vec<Material>,
+    /// Per material: the scene id of the material object it was built from.
+    pub(super) material_ids: Vec<String>,
     /// Per material: `Some` when ray-dependent `.cal` patterns modify it (rebuilt per hit,
     /// see [`Renderable::material_at`]).
     pub(super) patterned: Vec<Option<std::sync::Arc<PatternedMaterial>>>,
@@ -476,9 +479,14 @@ impl Renderable {
     /// Compile a parsed scene for channels `ch` with shading options `opts` (use
     /// [`ShadingOptions::rcontrib`] for coefficients, [`ShadingOptions::rtrace`] for values).
     pub fn compile(scene: &Scene, ch: &Channels, opts: &ShadingOptions) -> Result<Renderable> {
+        // `mesh` and `instance` primitives become ordinary surfaces appended to a copy of
+        // the scene (`super::expand`); the primitives themselves are skipped below.
+        let expanded = super::expand::expand(scene)?;
+        let scene: &Scene = &expanded;
         let mut geo: Vec<GeoObject> = Vec::new();
         let mut surfaces = Vec::new();
         let mut materials: Vec<Material> = Vec::new();
+        let mut material_ids: Vec<String> = Vec::new();
         // (Scene index of a material, spectral patterns between surface and material) ->
         // index in `materials`.
         let mut mat_index: std::collections::HashMap<(usize, Vec<usize>), u32> = Default::default();
@@ -496,11 +504,12 @@ impl Renderable {
                     continue;
                 }
                 k if !k.is_surface() => continue,
-                Primitive::Instance { .. } | Primitive::Mesh { .. } | Primitive::Other { .. } => {
+                Primitive::Instance { .. } | Primitive::Mesh { .. } => continue,
+                Primitive::Other { .. } => {
                     return Err(unsupported(
                         o,
                         format!(
-                            "primitive type '{}' ('{}'); supported surfaces: polygon, sphere, bubble, cone, cup, cylinder, tube, ring, source",
+                            "primitive type '{}' ('{}'); supported surfaces: polygon, sphere, bubble, cone, cup, cylinder, tube, ring, source, mesh, instance",
                             o.type_name(),
                             o.id
                         ),
@@ -592,6 +601,7 @@ impl Renderable {
                         ))
                     }));
                     materials.push(mat);
+                    material_ids.push(mo.id.clone());
                     mat_index.insert(key, k);
                     k
                 }
@@ -627,6 +637,7 @@ impl Renderable {
             bvh,
             surfaces,
             materials,
+            material_ids,
             patterned,
             sources,
             ncomp: ch.ncomp.max(1),
