@@ -158,6 +158,26 @@ impl Xf {
         }
     }
 
+    /// The inverse of a similarity transform (rotations, mirrors, one uniform scale, a
+    /// translation: all that `xf` options make): the 3x3 part transposed over `sca²`, the
+    /// translation taken back through it.
+    pub fn inverse(&self) -> Xf {
+        let s2 = self.sca * self.sca;
+        let mut m = Xf::default().m;
+        for (i, row) in m.iter_mut().take(3).enumerate() {
+            for (j, v) in row.iter_mut().take(3).enumerate() {
+                *v = self.m[j][i] / s2;
+            }
+        }
+        let t = [self.m[3][0], self.m[3][1], self.m[3][2]];
+        let back: [f64; 3] = std::array::from_fn(|n| -(0..3).map(|i| t[i] * m[i][n]).sum::<f64>());
+        m[3][..3].copy_from_slice(&back);
+        Xf {
+            m,
+            sca: 1.0 / self.sca,
+        }
+    }
+
     /// A point moved by this matrix (`multp3`).
     pub fn point(&self, p: [f64; 3]) -> [f64; 3] {
         std::array::from_fn(|n| (0..3).map(|i| p[i] * self.m[i][n]).sum::<f64>() + self.m[3][n])
@@ -243,6 +263,16 @@ mod tests {
         }
         assert!((f.sca - 2.5).abs() < 1e-15 && (i.sca - 0.4).abs() < 1e-15);
         assert!(f.mirrors());
+        let back = f.inverse();
+        let q = back.point(f.point(p));
+        for k in 0..3 {
+            assert!((p[k] - q[k]).abs() < 1e-12, "{q:?}");
+        }
+        for r in 0..4 {
+            for c in 0..4 {
+                assert!((back.m[r][c] - i.m[r][c]).abs() < 1e-12);
+            }
+        }
         // -rz 90 then -t: (1,0,0) -> (0,1,0) -> (1,3,3).
         let g = xf_fwd("-rz 90 -t 1 2 3");
         let r = g.point([1.0, 0.0, 0.0]);

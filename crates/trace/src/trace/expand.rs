@@ -1,10 +1,13 @@
-//! `mesh` and `instance` primitives, flattened into the scene before compiling.
+//! `mesh` and `instance` primitives read into shared units before compiling.
 //!
 //! Each `mesh` (a compiled mesh, [`crate::scene::mesh`], or a Wavefront `.obj`,
 //! [`crate::scene::obj`], our extension) and each `instance` (an octree,
 //! [`crate::scene::octree`]: frozen, or naming its scene files) is read once per distinct
-//! file, and its surfaces are appended to a copy of the scene, moved by the primitive's
-//! transform (`xform` options: [`Xf::forward_of`]). The original primitive stays in place
+//! file. Its surfaces, in the file's own coordinates, are appended once per (file,
+//! material assignment) to a copy of the scene as a [`Unit`]; each primitive naming it is a
+//! [`Placement`]: the unit and the primitive's transform (`xform` options:
+//! [`Xf::forward_of`]). The compiler gives every unit one BVH, shared by its placements
+//! through a two-level BVH (`geometry::bvh::Placed`). The original primitive stays in place
 //! (so object indices and modifier links do not move) and is skipped by the compiler.
 //!
 //! **Materials, as Radiance resolves them.** `src/rt/o_mesh.c`: a mesh whose own modifier is
@@ -16,15 +19,16 @@
 //! among the scene's modifiers defined before the `mesh` primitive, as `obj2mesh -a` would
 //! look them up in its material files.
 //!
-//! **Transforms.** Points by the matrix, radii by its scale; a mirroring transform reverses
-//! polygon vertex order so the front side is the one Radiance reports (it transforms the
-//! normal). Nested instances and meshes inside an octree compose their transforms.
+//! **Transforms.** A placement's rays are taken into the unit (as `o_instance.c` does) and
+//! its normals moved back as vectors, so a mirror keeps Radiance's front side. Meshes and
+//! instances nested inside an octree are flattened into its unit: points by the composed
+//! matrix, radii by its scale, polygon vertex order reversed under a mirror (as `xform`
+//! does, [`transformed`]).
 //!
-//! **What is not modelled.** Instanced geometry is copied per instance into the one BVH
-//! (Radiance shares one octree per file); mesh vertex normals are not interpolated (Radiance
-//! perturbs the shading normal with them: `o_mesh.c`), so smooth-shaded meshes shade flat;
-//! patterns on instance materials see world, not instance, coordinates; `source`
-//! primitives inside octrees are refused.
+//! **What is not modelled.** Mesh vertex normals are not interpolated (Radiance perturbs
+//! the shading normal with them: `o_mesh.c`), so smooth-shaded meshes shade flat; patterns
+//! on instance materials see world, not instance, coordinates; `source` primitives inside
+//! octrees are refused.
 
 use std::borrow::Cow;
 use std::collections::HashMap;
@@ -43,16 +47,24 @@ use crate::sky::specpict::find_file;
 const MAX_DEPTH: usize = 8;
 
 /// The scene with every `mesh` and `instance` flattened (borrowed when there are none).
-pub fn expand(scene: &Scene) -> Result<Cow<'_, Scene>> {
+pub fn expand(scene: &Scene) -> Result<Expanded<'_>> {
     if !scene
         .objects
         .iter()
         .any(|o| matches!(o.kind, Primitive::Mesh { .. } | Primitive::Instance { .. }))
     {
-        return Ok(Cow::Borrowed(scene));
+        return Ok(Expanded {
+            scene: Cow::Borrowed(scene),
+            units: Vec::new(),
+            placements: Vec::new(),
+        });
     }
     let mut ex = Expander {
         out: scene.clone(),
+        units: Vec::new(),
+        placements: Vec::new(),
+        unit_of: HashMap::new(),
+        current: 0,
         meshes: HashMap::new(),
         objs: HashMap::new(),
         octrees: HashMap::new(),
@@ -65,13 +77,50 @@ pub fn expand(scene: &Scene) -> Result<Cow<'_, Scene>> {
                 .iter()
                 .rposition(|b| b.id == name && b.kind.otype().is_modifier())
         };
+        ex.current = i;
         ex.object(o, o.modifier, &Xf::default(), &lookup, &o.loc, 0)?;
     }
-    Ok(Cow::Owned(ex.out))
+    Ok(Expanded {
+        scene: Cow::Owned(ex.out),
+        units: ex.units,
+        placements: ex.placements,
+    })
+}
+
+/// The surfaces of one file (with one material assignment), in its own coordinates: a
+/// range of [`Expanded::scene`]'s objects, traced through one shared BVH.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Unit {
+    pub objects: std::ops::Range<usize>,
+}
+
+/// One `mesh` or `instance` primitive: a unit moved into the scene by `xf`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Placement {
+    pub unit: usize,
+    /// Forward transform (file coordinates to the scene's).
+    pub xf: Xf,
+    /// The primitive's index in the scene.
+    pub scene_index: usize,
+}
+
+/// A scene with its `mesh` and `instance` primitives read: the scene (their surfaces
+/// appended, in file coordinates), the units and where each is placed.
+#[derive(Debug)]
+pub struct Expanded<'a> {
+    pub scene: Cow<'a, Scene>,
+    pub units: Vec<Unit>,
+    pub placements: Vec<Placement>,
 }
 
 struct Expander {
     out: Scene,
+    units: Vec<Unit>,
+    placements: Vec<Placement>,
+    /// (file, modifier, position for `.obj` name lookups) -> unit.
+    unit_of: HashMap<(PathBuf, Option<usize>, Option<usize>), usize>,
+    /// The scene index of the top-level object being expanded.
+    current: usize,
     meshes: HashMap<PathBuf, Arc<MeshFile>>,
     objs: HashMap<PathBuf, Arc<ObjFile>>,
     octrees: HashMap<PathBuf, Arc<Vec<Object>>>,
@@ -133,7 +182,11 @@ impl Expander {
         match &o.kind {
             Primitive::Mesh { file, transform } => {
                 let own = Xf::forward_of(transform, loc, &format!("mesh '{}'", o.id))?;
-                self.mesh(o, file, modifier, &own.then(xf), lookup, loc)
+                let path = locate(file, loc, "mesh", &o.id)?;
+                if depth == 0 {
+                    return self.place(o, path, modifier, own, lookup, loc);
+                }
+                self.mesh(o, &path, modifier, &own.then(xf), lookup, loc)
             }
             Primitive::Instance { octree, transform } => {
                 if depth >= MAX_DEPTH {
@@ -146,7 +199,11 @@ impl Expander {
                     ));
                 }
                 let own = Xf::forward_of(transform, loc, &format!("instance '{}'", o.id))?;
-                self.instance(o, octree, modifier, &own.then(xf), loc, depth)
+                let path = locate(octree, loc, "instance", &o.id)?;
+                if depth == 0 {
+                    return self.place(o, path, modifier, own, lookup, loc);
+                }
+                self.instance(&path, modifier, &own.then(xf), loc, depth)
             }
             _ if depth == 0 => Ok(()),
             Primitive::Source { .. } => Err(Error::unsupported(
@@ -173,6 +230,51 @@ impl Expander {
         }
     }
 
+    /// A top-level `mesh` or `instance`: its surfaces in the file's own coordinates are
+    /// appended once per (file, modifier) as a [`Unit`]; every primitive naming it is a
+    /// [`Placement`] of that unit.
+    fn place(
+        &mut self,
+        o: &Object,
+        path: PathBuf,
+        modifier: Option<usize>,
+        xf: Xf,
+        lookup: &dyn Fn(&str) -> Option<usize>,
+        loc: &Location,
+    ) -> Result<()> {
+        // `.obj` faces find their materials by name among the modifiers before the
+        // primitive, so with a `void` modifier the unit depends on the position too.
+        let is_obj = path
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("obj"));
+        let position = (is_obj && modifier.is_none()).then_some(self.current);
+        let key = (path.clone(), modifier, position);
+        let unit = match self.unit_of.get(&key) {
+            Some(&u) => u,
+            None => {
+                let start = self.out.objects.len();
+                let identity = Xf::default();
+                if matches!(o.kind, Primitive::Mesh { .. }) {
+                    self.mesh(o, &path, modifier, &identity, lookup, loc)?;
+                } else {
+                    self.instance(&path, modifier, &identity, loc, 0)?;
+                }
+                let u = self.units.len();
+                self.units.push(Unit {
+                    objects: start..self.out.objects.len(),
+                });
+                self.unit_of.insert(key, u);
+                u
+            }
+        };
+        self.placements.push(Placement {
+            unit,
+            xf,
+            scene_index: self.current,
+        });
+        Ok(())
+    }
+
     fn push_polygon(&mut self, id: &str, modifier: usize, vertices: Vec<[f64; 3]>, loc: &Location) {
         self.out.objects.push(Object {
             modifier: Some(modifier),
@@ -187,13 +289,13 @@ impl Expander {
     fn mesh(
         &mut self,
         o: &Object,
-        file: &str,
+        path: &Path,
         modifier: Option<usize>,
         xf: &Xf,
         lookup: &dyn Fn(&str) -> Option<usize>,
         loc: &Location,
     ) -> Result<()> {
-        let path = locate(file, loc, "mesh", &o.id)?;
+        let path = path.to_path_buf();
         let is_obj = path
             .extension()
             .is_some_and(|e| e.eq_ignore_ascii_case("obj"));
@@ -271,14 +373,13 @@ impl Expander {
 
     fn instance(
         &mut self,
-        o: &Object,
-        file: &str,
+        path: &Path,
         modifier: Option<usize>,
         xf: &Xf,
         loc: &Location,
         depth: usize,
     ) -> Result<()> {
-        let path = locate(file, loc, "instance", &o.id)?;
+        let path = path.to_path_buf();
         let objects = match self.octrees.get(&path) {
             Some(s) => s.clone(),
             None => {
@@ -341,7 +442,7 @@ impl Expander {
 }
 
 /// A surface primitive moved by `xf` (points by the matrix, radii by its scale).
-fn transformed(kind: &Primitive, xf: &Xf) -> Primitive {
+pub fn transformed(kind: &Primitive, xf: &Xf) -> Primitive {
     match kind {
         Primitive::Polygon { vertices } => Primitive::Polygon {
             vertices: polygon(vertices.iter().copied(), xf),
