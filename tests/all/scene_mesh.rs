@@ -198,6 +198,9 @@ fn bent_vertex_normals_and_uv_decode() {
     }
 }
 
+/// Summed area, bounding box and polygon count of a placed unit.
+type Extent = (f64, [f64; 3], [f64; 3], usize);
+
 #[test]
 fn transformed_mesh_obj_and_instance_expand_to_the_same_surfaces() {
     if !have_radiance("transformed_mesh_obj_and_instance_expand_to_the_same_surfaces") {
@@ -222,8 +225,7 @@ fn transformed_mesh_obj_and_instance_expand_to_the_same_surfaces() {
     let ex = rdaylight::trace::expand::expand(&s).unwrap();
     // One shared unit per file, each placed once; their surfaces moved by the placement.
     assert_eq!((ex.units.len(), ex.placements.len()), (3, 3));
-    let mut by: std::collections::BTreeMap<&str, (f64, [f64; 3], [f64; 3], usize)> =
-        Default::default();
+    let mut by: std::collections::BTreeMap<&str, Extent> = Default::default();
     for p in &ex.placements {
         let key = s.objects[p.scene_index].id.as_str();
         for k in ex.units[p.unit].objects.clone() {
@@ -238,9 +240,9 @@ fn transformed_mesh_obj_and_instance_expand_to_the_same_surfaces() {
                 .or_insert((0.0, [f64::MAX; 3], [f64::MIN; 3], 0));
             e.0 += norm(vector_area(&vertices));
             for v in &vertices {
-                for i in 0..3 {
-                    e.1[i] = e.1[i].min(v[i]);
-                    e.2[i] = e.2[i].max(v[i]);
+                for (i, c) in v.iter().enumerate() {
+                    e.1[i] = e.1[i].min(*c);
+                    e.2[i] = e.2[i].max(*c);
                 }
             }
             // The material comes from the file (void mesh / instance): wood or steel.
