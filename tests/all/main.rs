@@ -50,6 +50,7 @@ mod rspecsky;
 mod ruplift;
 mod ruplift_images;
 mod scene;
+mod scene_mesh;
 mod seed_medi;
 mod sensors;
 mod sky;

@@ -327,9 +327,10 @@ fn first_glow_wins_among_overlapping_distant_glows() {
 fn unsupported_inputs_name_file_and_line() {
     let cases = [
         (
-            "void plastic m 0 0 5 .5 .5 .5 0 0\nm instance i 1 x.oct 0 0\n",
-            "test.rad:2",
-            "instance",
+            // (instance and mesh are traced now: tests/all/scene_mesh.rs)
+            "void dielectric d 0 0 5 1 1 1 1.5 0\nd polygon p 0 0 9 0 0 0 1 0 0 0 1 0\n",
+            "test.rad:1",
+            "dielectric",
         ),
         (
             // .cal patterns are evaluated now (crate::cal); transform arrays (-i) are not.

@@ -12,6 +12,10 @@
 //! | `exec` | running `!commands` (or refusing to) |
 //! | [`specdata`] | the 1-D data file of a `specfile` |
 //! | `write` | canonical `.rad` output ([`std::fmt::Display`], [`Scene::write_rad`]) |
+//! | [`mesh`] | compiled meshes (`obj2mesh` output) for `mesh` primitives |
+//! | [`obj`] | Wavefront OBJ for `mesh` primitives naming a `.obj` file (our extension) |
+//! | [`octree`] | octrees (`oconv`; frozen ones hold their scene) for `instance` primitives |
+//! | `binary` | Radiance's portable binary encoding shared by meshes and octrees |
 //! | `bbox` | [`Scene::bounding_box`] as `getbbox` computes it |
 //! | `wrong_kind` | inputs that are not scene text (octrees, pictures, matrices, weather), named as such |
 //!
@@ -27,7 +31,11 @@
 //! ```
 
 mod bbox;
+mod binary;
 mod exec;
+pub mod mesh;
+pub mod obj;
+pub mod octree;
 pub mod otype;
 mod parse;
 pub mod primitive;

@@ -21,6 +21,12 @@
 //!    in `f64` by the callback, so `t` and the object are exactly those of a brute-force loop
 //!    over the same primitives.
 //!
+//! **Two levels.** [`Bvh::build_two_level`] also takes [`Placed`] BVHs (instanced geometry,
+//! stored once): each is one primitive of the top level whose box is its BVH's box moved by
+//! the placement; a ray reaching it is taken into the shared BVH's coordinates by the
+//! inverse transform (distances scale by the similarity's factor), and the hit's normal
+//! moved back as a vector, as Radiance traces instances (`src/rt/o_instance.c`).
+//!
 //! Ties: when two primitives are hit at exactly the same `t` (a ray through the shared edge of
 //! two triangles of one polygon), either may be reported; both belong to the same object and
 //! plane, so nothing downstream can tell.
@@ -84,6 +90,81 @@ fn usable(dir: Vec3) -> bool {
 enum PrimGeom {
     Tri(TriGeom),
     Analytic(AnalyticGeom),
+    /// Index into `Bvh::placed`.
+    Placed(u32),
+}
+
+/// A shared BVH placed in the scene (an `instance` or `mesh` primitive): the second level
+/// of a two-level BVH. The transform is a similarity (rotations, mirrors, one uniform
+/// scale), as Radiance's `xf` allows, so distances scale by `sca` and normals move as
+/// vectors (`src/rt/o_instance.c`).
+#[derive(Clone)]
+pub struct Placed {
+    pub bvh: std::sync::Arc<Bvh>,
+    /// Forward matrix for row vectors: `world = local · m` (translation in row 3).
+    pub fwd: [[f64; 4]; 4],
+    /// Its inverse.
+    pub inv: [[f64; 4]; 4],
+    /// The scale of `fwd` (> 0): world distance = local distance × `sca`.
+    pub sca: f64,
+    /// Added to the shared BVH's object ids in hits.
+    pub id_offset: u32,
+}
+
+impl std::fmt::Debug for Placed {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Placed")
+            .field("primitives", &self.bvh.primitive_count())
+            .field("sca", &self.sca)
+            .field("id_offset", &self.id_offset)
+            .finish()
+    }
+}
+
+fn mat_point(m: &[[f64; 4]; 4], p: Vec3) -> Vec3 {
+    Vec3::new(
+        p.x * m[0][0] + p.y * m[1][0] + p.z * m[2][0] + m[3][0],
+        p.x * m[0][1] + p.y * m[1][1] + p.z * m[2][1] + m[3][1],
+        p.x * m[0][2] + p.y * m[1][2] + p.z * m[2][2] + m[3][2],
+    )
+}
+
+fn mat_vector(m: &[[f64; 4]; 4], v: Vec3) -> Vec3 {
+    Vec3::new(
+        v.x * m[0][0] + v.y * m[1][0] + v.z * m[2][0],
+        v.x * m[0][1] + v.y * m[1][1] + v.z * m[2][1],
+        v.x * m[0][2] + v.y * m[1][2] + v.z * m[2][2],
+    )
+}
+
+impl Placed {
+    /// The world ray as the shared BVH sees it (unit direction) and the factor from world
+    /// to local distances (`1 / sca`).
+    #[inline]
+    fn local_ray(&self, org: Vec3, dir: Vec3) -> Ray {
+        Ray {
+            org: mat_point(&self.inv, org),
+            dir: mat_vector(&self.inv, dir) * self.sca,
+        }
+    }
+
+    /// World bounds: the shared BVH's box corners moved by the transform.
+    fn bounds(&self) -> (Vec3, Vec3) {
+        let (a, b) = (self.bvh.lo + self.bvh.centre, self.bvh.hi + self.bvh.centre);
+        let mut lo = Vec3::splat(f64::INFINITY);
+        let mut hi = Vec3::splat(f64::NEG_INFINITY);
+        for k in 0..8 {
+            let c = Vec3::new(
+                if k & 1 == 0 { a.x } else { b.x },
+                if k & 2 == 0 { a.y } else { b.y },
+                if k & 4 == 0 { a.z } else { b.z },
+            );
+            let w = mat_point(&self.fwd, c);
+            lo = lo.min(w);
+            hi = hi.max(w);
+        }
+        (lo, hi)
+    }
 }
 
 #[derive(Debug, Clone, Copy)]
@@ -93,12 +174,34 @@ struct Prim {
     obj: u32,
 }
 
-impl Prim {
+impl Bvh {
+    /// Distance to primitive `p` along the local ray (`org` relative to `centre`).
     #[inline(always)]
-    fn intersect(&self, org: Vec3, dir: Vec3, tmin: f64, tmax: f64) -> Option<f64> {
-        match &self.geom {
+    fn prim_hit(&self, p: &Prim, org: Vec3, dir: Vec3, tmin: f64, tmax: f64) -> Option<f64> {
+        match &p.geom {
             PrimGeom::Tri(t) => t.intersect(org, dir, tmin, tmax),
             PrimGeom::Analytic(a) => a.intersect(org, dir, tmin, tmax),
+            PrimGeom::Placed(k) => {
+                let pl = &self.placed[*k as usize];
+                let r = pl.local_ray(org + self.centre, dir);
+                pl.bvh
+                    .intersect(&r, tmin / pl.sca, tmax / pl.sca)
+                    .map(|h| h.t * pl.sca)
+                    .filter(|&t| t > tmin && t < tmax)
+            }
+        }
+    }
+
+    /// Whether primitive `p` blocks the local ray before `tmax` (shadow rays).
+    #[inline(always)]
+    fn prim_blocks(&self, p: &Prim, org: Vec3, dir: Vec3, tmax: f64) -> bool {
+        match &p.geom {
+            PrimGeom::Placed(k) => {
+                let pl = &self.placed[*k as usize];
+                let r = pl.local_ray(org + self.centre, dir);
+                pl.bvh.occluded(&r, tmax / pl.sca)
+            }
+            _ => self.prim_hit(p, org, dir, 0.0, tmax).is_some(),
         }
     }
 }
@@ -121,6 +224,8 @@ pub struct Bvh {
     /// Primitives in BVH leaf order (`cwbvh.primitive_indices` already applied).
     prims: Vec<Prim>,
     objects: Vec<ObjInfo>,
+    /// Second-level BVHs (see [`Placed`]).
+    placed: Vec<Placed>,
     build_time: Duration,
 }
 
@@ -130,9 +235,28 @@ impl Bvh {
         Self::build_with(objects, BvhBuildParams::medium_build())
     }
 
+    /// Build a two-level BVH with the `medium_build` preset (see [`Bvh::build_two_level`]).
+    pub fn build_placed(objects: &[Object], placed: Vec<Placed>) -> Result<Bvh, BuildError> {
+        Self::build_two_level(objects, placed, BvhBuildParams::medium_build())
+    }
+
     /// Build with explicit obvhs parameters.
     pub fn build_with(objects: &[Object], params: BvhBuildParams) -> Result<Bvh, BuildError> {
+        Self::build_two_level(objects, Vec::new(), params)
+    }
+
+    /// Build over `objects` and placed shared BVHs (a two-level BVH: instanced geometry is
+    /// stored once and traversed through each placement's transform).
+    pub fn build_two_level(
+        objects: &[Object],
+        placed: Vec<Placed>,
+        params: BvhBuildParams,
+    ) -> Result<Bvh, BuildError> {
         let start = std::time::Instant::now();
+        let placed: Vec<Placed> = placed
+            .into_iter()
+            .filter(|p| p.bvh.cwbvh.is_some())
+            .collect();
         let mut lo = Vec3::splat(f64::INFINITY);
         let mut hi = Vec3::splat(f64::NEG_INFINITY);
         for (index, o) in objects.iter().enumerate() {
@@ -145,7 +269,12 @@ impl Bvh {
             lo = lo.min(a);
             hi = hi.max(b);
         }
-        if objects.is_empty() {
+        for p in &placed {
+            let (a, b) = p.bounds();
+            lo = lo.min(a);
+            hi = hi.max(b);
+        }
+        if objects.is_empty() && placed.is_empty() {
             return Ok(Bvh {
                 centre: Vec3::ZERO,
                 lo: Vec3::ZERO,
@@ -154,6 +283,7 @@ impl Bvh {
                 cwbvh: None,
                 prims: Vec::new(),
                 objects: Vec::new(),
+                placed: Vec::new(),
                 build_time: start.elapsed(),
             });
         }
@@ -207,6 +337,14 @@ impl Bvh {
                 }
             }
         }
+        for (k, p) in placed.iter().enumerate() {
+            let (a, b) = p.bounds();
+            prims.push(Prim {
+                geom: PrimGeom::Placed(k as u32),
+                obj: u32::MAX,
+            });
+            boxes.push(to_aabb(a - centre, b - centre));
+        }
         let cwbvh = build_cwbvh(&boxes, params, &mut Duration::default());
         // Store primitives in leaf order so that traversal indexes them directly.
         let prims = cwbvh
@@ -222,6 +360,7 @@ impl Bvh {
             cwbvh: Some(cwbvh),
             prims,
             objects: infos,
+            placed,
             build_time: start.elapsed(),
         })
     }
@@ -292,7 +431,7 @@ impl Bvh {
         let mut rh = RayHit::none();
         cw.ray_traverse(bray, &mut rh, |_, id| {
             // SAFETY-free: `id` indexes primitive_indices, which has prims.len() entries.
-            match self.prims[id].intersect(org, dir, tmin, best_t) {
+            match self.prim_hit(&self.prims[id], org, dir, tmin, best_t) {
                 Some(t) => {
                     best_t = t;
                     best = id;
@@ -305,21 +444,40 @@ impl Bvh {
         if best == usize::MAX {
             return None;
         }
-        Some(self.make_hit(ray, best, best_t))
+        Some(self.make_hit(ray, best, best_t, tmin))
     }
 
-    fn make_hit(&self, ray: &Ray, prim: usize, t: f64) -> Hit {
+    fn make_hit(&self, ray: &Ray, prim: usize, t: f64, tmin: f64) -> Hit {
         let p = &self.prims[prim];
-        let info = self.objects[p.obj as usize];
-        let normal = match &p.geom {
-            PrimGeom::Tri(_) => info.normal,
-            PrimGeom::Analytic(a) => a.normal(ray.org - self.centre + ray.dir * t),
+        let (normal, object) = match &p.geom {
+            PrimGeom::Tri(_) => {
+                let info = self.objects[p.obj as usize];
+                (info.normal, info.id)
+            }
+            PrimGeom::Analytic(a) => {
+                let info = self.objects[p.obj as usize];
+                (a.normal(ray.org - self.centre + ray.dir * t), info.id)
+            }
+            PrimGeom::Placed(k) => {
+                // The closest hit in the shared BVH again, now for its object and normal
+                // (the traversal callback only keeps distances): the same closest hit,
+                // since nothing nearer than `t` exists there.
+                let pl = &self.placed[*k as usize];
+                let r = pl.local_ray(ray.org, ray.dir);
+                match pl.bvh.intersect(&r, tmin / pl.sca, f64::INFINITY) {
+                    Some(h) => (
+                        mat_vector(&pl.fwd, h.normal).normalize(),
+                        h.object + pl.id_offset,
+                    ),
+                    None => (Vec3::new(0.0, 0.0, 1.0), pl.id_offset),
+                }
+            }
         };
         Hit {
             t,
             point: ray.at(t),
             normal,
-            object: info.id,
+            object,
             front: ray.dir.dot(normal) < 0.0,
         }
     }
@@ -340,7 +498,7 @@ impl Bvh {
         let s = enter.max(0.0) - BACKOFF;
         let bray = self.bvh_ray(org, dir, s, exit);
         !cw.ray_traverse_miss(bray, |_, id| {
-            if self.prims[id].intersect(org, dir, 0.0, tmax).is_some() {
+            if self.prim_blocks(&self.prims[id], org, dir, tmax) {
                 f32::NEG_INFINITY
             } else {
                 f32::INFINITY
@@ -354,11 +512,166 @@ impl Bvh {
         let mut best_t = tmax;
         let mut best = None;
         for (i, p) in self.prims.iter().enumerate() {
-            if let Some(t) = p.intersect(org, ray.dir, tmin, best_t) {
+            if let Some(t) = self.prim_hit(p, org, ray.dir, tmin, best_t) {
                 best_t = t;
                 best = Some(i);
             }
         }
-        best.map(|i| self.make_hit(ray, i, best_t))
+        best.map(|i| self.make_hit(ray, i, best_t, tmin))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::{Rng, SeedableRng};
+
+    /// Rotate about z by 30°, mirror x, scale 1.7, translate: a similarity as `xf` makes.
+    fn transform() -> ([[f64; 4]; 4], [[f64; 4]; 4], f64) {
+        let (s, c) = 30f64.to_radians().sin_cos();
+        let k = 1.7;
+        // Row vectors: p' = p R M S + t, with R = rz(30), M = mirror x.
+        let fwd = [
+            [-c * k, s * k, 0.0, 0.0],
+            [s * k, c * k, 0.0, 0.0],
+            [0.0, 0.0, k, 0.0],
+            [3.0, -1.0, 0.5, 1.0],
+        ];
+        // Inverse of a similarity: the 3x3 part transposed over k², translation back.
+        let mut inv = [[0.0; 4]; 4];
+        for i in 0..3 {
+            for j in 0..3 {
+                inv[i][j] = fwd[j][i] / (k * k);
+            }
+        }
+        let back: [f64; 3] =
+            std::array::from_fn(|n| -(0..3).map(|i| fwd[3][i] * inv[i][n]).sum::<f64>());
+        inv[3][..3].copy_from_slice(&back);
+        inv[3][3] = 1.0;
+        (fwd, inv, k)
+    }
+
+    fn local_shapes() -> Vec<Shape> {
+        vec![
+            Shape::Polygon {
+                vertices: vec![[0., 0., 0.], [1., 0., 0.], [1., 1., 0.], [0., 1., 0.]],
+            },
+            Shape::Polygon {
+                vertices: vec![[0., 0., 0.], [0., 0., 1.], [1., 0., 1.]],
+            },
+            Shape::Sphere {
+                centre: [0.5, 0.5, 0.6],
+                radius: 0.3,
+                inward: false,
+            },
+        ]
+    }
+
+    /// The same shapes moved into the world (polygon order reversed under a mirror, as
+    /// `xform` does).
+    fn world_shapes(fwd: &[[f64; 4]; 4], k: f64) -> Vec<Shape> {
+        let p = |v: [f64; 3]| mat_point(fwd, Vec3::from(v)).to_array();
+        local_shapes()
+            .into_iter()
+            .map(|s| match s {
+                Shape::Polygon { vertices } => Shape::Polygon {
+                    vertices: vertices.into_iter().rev().map(p).collect(),
+                },
+                Shape::Sphere {
+                    centre,
+                    radius,
+                    inward,
+                } => Shape::Sphere {
+                    centre: p(centre),
+                    radius: radius * k,
+                    inward,
+                },
+                other => other,
+            })
+            .collect()
+    }
+
+    #[test]
+    fn placed_bvh_hits_like_the_same_shapes_moved() {
+        let (fwd, inv, k) = transform();
+        let objs = |shapes: Vec<Shape>| -> Vec<Object> {
+            shapes
+                .into_iter()
+                .enumerate()
+                .map(|(i, shape)| Object {
+                    shape,
+                    id: i as u32,
+                })
+                .collect()
+        };
+        let shared = std::sync::Arc::new(Bvh::build(&objs(local_shapes())).unwrap());
+        // A floor of our own plus the placed unit, against everything flattened.
+        let floor = Object {
+            shape: Shape::Polygon {
+                vertices: vec![
+                    [-5., -5., -0.1],
+                    [8., -5., -0.1],
+                    [8., 8., -0.1],
+                    [-5., 8., -0.1],
+                ],
+            },
+            id: 0,
+        };
+        let placed = Placed {
+            bvh: shared,
+            fwd,
+            inv,
+            sca: k,
+            id_offset: 1,
+        };
+        let two = Bvh::build_placed(std::slice::from_ref(&floor), vec![placed]).unwrap();
+        let mut flat = vec![floor];
+        flat.extend(
+            world_shapes(&fwd, k)
+                .into_iter()
+                .enumerate()
+                .map(|(i, shape)| Object {
+                    shape,
+                    id: i as u32 + 1,
+                }),
+        );
+        let flat = Bvh::build(&flat).unwrap();
+        let mut rng = rand_pcg::Pcg64::seed_from_u64(7);
+        let mut hits = 0;
+        for _ in 0..4000 {
+            let org = Vec3::new(
+                rng.random_range(-2.0..6.0),
+                rng.random_range(-4.0..4.0),
+                rng.random_range(-0.05..3.0),
+            );
+            let dir = Vec3::new(
+                rng.random_range(-1.0..1.0),
+                rng.random_range(-1.0..1.0),
+                rng.random_range(-1.0..1.0),
+            );
+            let ray = Ray::new(org, dir);
+            let (a, b) = (
+                two.intersect(&ray, 0.0, f64::INFINITY),
+                flat.intersect(&ray, 0.0, f64::INFINITY),
+            );
+            match (a, b) {
+                (None, None) => {}
+                (Some(a), Some(b)) => {
+                    hits += 1;
+                    assert!((a.t - b.t).abs() < 1e-9 * b.t.max(1.0), "{a:?} vs {b:?}");
+                    assert_eq!((a.object, a.front), (b.object, b.front), "{a:?} vs {b:?}");
+                    assert!((a.normal - b.normal).length() < 1e-9, "{a:?} vs {b:?}");
+                    // Shadow rays agree too, just before and after the hit.
+                    assert!(two.occluded(&ray, b.t * 1.0001) && !two.occluded(&ray, b.t * 0.9999));
+                }
+                (a, b) => panic!("ray {ray:?}: two-level {a:?}, flat {b:?}"),
+            }
+            let bf = two.intersect_brute_force(&ray, 0.0, f64::INFINITY);
+            assert_eq!(bf.map(|h| h.object), b.map(|h| h.object));
+        }
+        assert!(
+            hits > 1000,
+            "{hits} hits: the rays must mostly meet the scene"
+        );
     }
 }

@@ -27,7 +27,7 @@ pub mod ray;
 pub mod shapes;
 pub mod triangulate;
 
-pub use bvh::{BuildError, Bvh};
+pub use bvh::{BuildError, Bvh, Placed};
 pub use klems::{KlemsBasis, KlemsFrame, KlemsKind};
 pub use ray::{Hit, Ray, offset_distance};
 pub use rdaylight_base::vec3::{self, Vec3};

@@ -28,6 +28,9 @@ pub const SUPPORTED: &[&str] = &[
     "cup",
     "cylinder",
     "tube",
+    // Flattened into polygons and the octree's surfaces (`crate::trace::expand`).
+    "mesh",
+    "instance",
     "plastic",
     "metal",
     "trans",

@@ -24,7 +24,8 @@
 //!   transmittance of glazing, spectral suns and skies (together with a sky `brightfunc`).
 //!
 //! Refused with `Error::unsupported` at the object's `file:line` (so nothing is silently
-//! rendered wrong): `instance`, `mesh` and other surface types; other patterns, textures and
+//! rendered wrong): surface types other than those above and `mesh`/`instance` (read
+//!   into shared units first: [`super::expand`]); other patterns, textures and
 //! mixtures on surfaces (`specpict` and other picture or data patterns, textures, `-i`
 //! transform arrays on function-file patterns); materials other than
 //! plastic/metal/trans/glass/mirror/glow (e.g. BSDF, `spotlight`); *local* direct sources
@@ -36,7 +37,7 @@
 use super::sources::{DistantKind, DistantSource, SkyPattern, Sources};
 use crate::calc::pattern::{CalPatterns, PatternedMaterial, ScenePatterns, is_cal_pattern};
 use crate::error::{Error, Result};
-use crate::geometry::{Bvh, Object as GeoObject, Shape, Vec3};
+use crate::geometry::{Bvh, Object as GeoObject, Placed, Shape, Vec3};
 use crate::material::spectrum::Sampled;
 use crate::material::{Color, Emitter, EmitterKind, Material, ShadingOptions};
 use crate::radiometry::Channels;
@@ -59,6 +60,8 @@ pub struct Renderable {
     /// Per BVH object id.
     pub(super) surfaces: Vec<SurfaceInfo>,
     pub(super) materials: Vec<Material>,
+    /// Per material: the scene id of the material object it was built from.
+    pub(super) material_ids: Vec<String>,
     /// Per material: `Some` when ray-dependent `.cal` patterns modify it (rebuilt per hit,
     /// see [`Renderable::material_at`]).
     pub(super) patterned: Vec<Option<std::sync::Arc<PatternedMaterial>>>,
@@ -476,16 +479,41 @@ impl Renderable {
     /// Compile a parsed scene for channels `ch` with shading options `opts` (use
     /// [`ShadingOptions::rcontrib`] for coefficients, [`ShadingOptions::rtrace`] for values).
     pub fn compile(scene: &Scene, ch: &Channels, opts: &ShadingOptions) -> Result<Renderable> {
+        // `mesh` and `instance` primitives: their files' surfaces are appended to a copy of
+        // the scene as units (`super::expand`), each traced through one shared BVH placed by
+        // every primitive that names it; the primitives themselves are skipped below.
+        let expanded = super::expand::expand(scene)?;
+        let scene: &Scene = &expanded.scene;
+        // Objects of the scene first, then each unit's (their shapes go to the unit's own
+        // BVH, in file coordinates; `unit_start[u]` is the unit's first surface).
+        let first_unit = expanded
+            .units
+            .first()
+            .map_or(scene.objects.len(), |u| u.objects.start);
+        let order = (0..first_unit).map(|i| (i, None)).chain(
+            expanded
+                .units
+                .iter()
+                .enumerate()
+                .flat_map(|(u, unit)| unit.objects.clone().map(move |i| (i, Some(u)))),
+        );
+        let mut unit_geo: Vec<Vec<GeoObject>> = vec![Vec::new(); expanded.units.len()];
+        let mut unit_start: Vec<Option<usize>> = vec![None; expanded.units.len()];
         let mut geo: Vec<GeoObject> = Vec::new();
         let mut surfaces = Vec::new();
         let mut materials: Vec<Material> = Vec::new();
+        let mut material_ids: Vec<String> = Vec::new();
         // (Scene index of a material, spectral patterns between surface and material) ->
         // index in `materials`.
         let mut mat_index: std::collections::HashMap<(usize, Vec<usize>), u32> = Default::default();
         let mut patterned: Vec<Option<std::sync::Arc<PatternedMaterial>>> = Vec::new();
         let mut sources = Sources::default();
         let cal = ScenePatterns::new(scene, ch);
-        for (i, o) in scene.objects.iter().enumerate() {
+        for (i, unit) in order {
+            let o = &scene.objects[i];
+            if let Some(u) = unit {
+                unit_start[u].get_or_insert(surfaces.len());
+            }
             match &o.kind {
                 Primitive::Source { direction, angle } => {
                     if let Some(s) =
@@ -496,11 +524,12 @@ impl Renderable {
                     continue;
                 }
                 k if !k.is_surface() => continue,
-                Primitive::Instance { .. } | Primitive::Mesh { .. } | Primitive::Other { .. } => {
+                Primitive::Instance { .. } | Primitive::Mesh { .. } => continue,
+                Primitive::Other { .. } => {
                     return Err(unsupported(
                         o,
                         format!(
-                            "primitive type '{}' ('{}'); supported surfaces: polygon, sphere, bubble, cone, cup, cylinder, tube, ring, source",
+                            "primitive type '{}' ('{}'); supported surfaces: polygon, sphere, bubble, cone, cup, cylinder, tube, ring, source, mesh, instance",
                             o.type_name(),
                             o.id
                         ),
@@ -592,6 +621,7 @@ impl Renderable {
                         ))
                     }));
                     materials.push(mat);
+                    material_ids.push(mo.id.clone());
                     mat_index.insert(key, k);
                     k
                 }
@@ -606,27 +636,58 @@ impl Renderable {
                 Error::parse(o.loc.clone(), format!("{} '{}': {e}", o.type_name(), o.id))
             })?;
             let flat = matches!(shape, Shape::Polygon { .. } | Shape::Ring { .. });
-            geo.push(GeoObject {
-                shape,
-                id: surfaces.len() as u32,
-            });
+            match unit {
+                None => geo.push(GeoObject {
+                    shape,
+                    id: surfaces.len() as u32,
+                }),
+                Some(u) => {
+                    let start = unit_start[u].unwrap_or(0);
+                    unit_geo[u].push(GeoObject {
+                        shape,
+                        id: (surfaces.len() - start) as u32,
+                    });
+                }
+            }
             surfaces.push(SurfaceInfo {
                 material: mi,
                 flat,
                 scene_index: i as u32,
             });
         }
-        let bvh = Bvh::build(&geo).map_err(|e| {
-            let o = &scene.objects[surfaces[e.index].scene_index as usize];
+        let build_error = |e: crate::geometry::BuildError, start: usize| {
+            let o = &scene.objects[surfaces[start + e.index].scene_index as usize];
             Error::parse(
                 o.loc.clone(),
                 format!("{} '{}': {}", o.type_name(), o.id, e.error),
             )
-        })?;
+        };
+        // One shared BVH per unit; every placement refers to it through its transform.
+        let mut unit_bvh = Vec::with_capacity(unit_geo.len());
+        for (u, g) in unit_geo.iter().enumerate() {
+            let start = unit_start[u].unwrap_or(0);
+            unit_bvh.push(std::sync::Arc::new(
+                Bvh::build(g).map_err(|e| build_error(e, start))?,
+            ));
+        }
+        let placed = expanded
+            .placements
+            .iter()
+            .filter(|p| !unit_geo[p.unit].is_empty())
+            .map(|p| Placed {
+                bvh: unit_bvh[p.unit].clone(),
+                fwd: p.xf.m,
+                inv: p.xf.inverse().m,
+                sca: p.xf.sca,
+                id_offset: unit_start[p.unit].unwrap_or(0) as u32,
+            })
+            .collect();
+        let bvh = Bvh::build_placed(&geo, placed).map_err(|e| build_error(e, 0))?;
         Ok(Renderable {
             bvh,
             surfaces,
             materials,
+            material_ids,
             patterned,
             sources,
             ncomp: ch.ncomp.max(1),

@@ -253,20 +253,10 @@ fn scalable(m: &Material) -> bool {
 impl Renderable {
     /// The scene name (`id`) of each renderable material, from the scene it was compiled
     /// from (materials no surface uses are not renderable).
-    pub fn material_names(&self, scene: &Scene) -> Vec<String> {
-        let mut names = vec![String::new(); self.materials.len()];
-        for s in &self.surfaces {
-            if let Some(m) = scene.material_of(s.scene_index as usize) {
-                if let (Some(n), Some(o)) =
-                    (names.get_mut(s.material as usize), scene.objects.get(m))
-                {
-                    if n.is_empty() {
-                        n.clone_from(&o.id);
-                    }
-                }
-            }
-        }
-        names
+    pub fn material_names(&self, _scene: &Scene) -> Vec<String> {
+        // Recorded at compile time: surfaces of flattened meshes and instances are not
+        // objects of the caller's scene.
+        self.material_ids.clone()
     }
 
     /// Tracking for re-weighting: the named materials (`None`: every plastic, metal, trans,
