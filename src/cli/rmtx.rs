@@ -301,6 +301,7 @@ impl Options {
                     scale: *scale,
                 })
                 .collect(),
+            in_memory: Vec::new(),
         })
     }
 }

@@ -83,6 +83,11 @@ pub struct Pipeline {
     /// streamed pass. Every term must give the same NROWS, NCOLS and NCOMP; `coefs`,
     /// `scale` and `hours` apply to the sum (hours: to each term's right-most matrix).
     pub terms: Vec<Term>,
+    /// Inputs already in memory as Radiance matrix bytes (header included), read in place
+    /// of the file of the same name in products and sums: the tools layer puts the
+    /// transmission matrix of a BSDF XML file named among the inputs here (dctimestep's
+    /// `T.xml`), since reading XML belongs to a layer above this one.
+    pub in_memory: Vec<(String, Vec<u8>)>,
 }
 
 /// One added term of a sum ([`Pipeline::terms`]): a product chain and its factor.
@@ -315,7 +320,7 @@ impl Pipeline {
             &inputs[..1]
         };
         for p in streamed {
-            readers.push(MatrixReader::open(p, &self.read)?);
+            readers.push(self.reader(p)?);
         }
         let first = &readers[0];
         let in_format = first.info().format;
@@ -338,16 +343,24 @@ impl Pipeline {
         } else if self.columns {
             o.check_columns()?;
         } else {
-            o.load_chain(&inputs[1..], &self.read, self.hours)?;
+            o.load_chain(&inputs[1..], &self.read, self.hours, &self.in_memory)?;
         }
         // A transposed result is held whole before it is written, and a product computed
         // in the outer order has read its left input whole: no need to read them twice.
         if !self.transpose && o.product.is_none() {
-            for p in streamed {
+            for p in streamed
+                .iter()
+                .filter(|p| !self.in_memory.iter().any(|(n, _)| n == *p))
+            {
                 super::reader::check_data(p, &self.read)?;
             }
         }
         Ok(o)
+    }
+
+    /// An input's reader: from [`Pipeline::in_memory`] when it is there, else the file.
+    fn reader(&self, p: &str) -> Result<MatrixReader<Box<dyn BufRead>>> {
+        open_reader(p, &self.read, &self.in_memory)
     }
 
     /// [`Pipeline::terms`]: every term's first input streamed in lock step, each row
@@ -888,6 +901,21 @@ impl Pipeline {
 }
 
 /// The header of matrix file `p`.
+/// `p`'s reader: its bytes from `in_memory` when listed there, else the file (or standard
+/// input for `-`).
+fn open_reader(
+    p: &str,
+    ropts: &ReadOptions,
+    in_memory: &[(String, Vec<u8>)],
+) -> Result<MatrixReader<Box<dyn BufRead>>> {
+    match in_memory.iter().find(|(n, _)| n == p) {
+        Some((_, bytes)) => {
+            MatrixReader::new(Box::new(std::io::Cursor::new(bytes.clone())), p, ropts)
+        }
+        None => MatrixReader::open(p, ropts),
+    }
+}
+
 fn read_header(p: &str) -> Result<Header> {
     let f = std::fs::File::open(p).map_err(|e| Error::io(p, e))?;
     Header::read(&mut std::io::BufReader::new(f), p)
@@ -966,10 +994,11 @@ impl Opened {
         paths: &[String],
         ropts: &ReadOptions,
         hours: Option<HourSpan>,
+        in_memory: &[(String, Vec<u8>)],
     ) -> Result<()> {
         let mut right = Vec::new();
         for p in paths {
-            right.push(MatrixReader::open(p, ropts)?);
+            right.push(open_reader(p, ropts, in_memory)?);
         }
         // Cheap header checks first, so a mismatch is reported before any large load.
         self.check_headers(&right)?;
@@ -1214,6 +1243,7 @@ mod tests {
             manifest: None,
             verify: false,
             terms: Vec::new(),
+            in_memory: Vec::new(),
         }
     }
 
