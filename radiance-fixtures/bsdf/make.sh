@@ -9,6 +9,8 @@
 # Usage:  radiance-fixtures/bsdf/make.sh        (from anywhere)
 #   RADIANCE_BIN=/path/to/radiance/bin  optional (see ../find_radiance.sh)
 #   NPROC=2                             optional rfluxmtx -n (default 1: shared box)
+#   BSDF_ONLY=blinds45                  optional: make only this fixture (blinds45,
+#                                       shade10 or lobe_tt)
 #   BSDF_SAMPLES=500                    rays per sender patch for the blinds (rfluxmtx -c)
 #   SHADE_SAMPLES=100                   the same for the shade (every ray hits the fabric
 #                                       and spawns -ad ambient rays: 5 x the blinds' cost)
@@ -27,6 +29,7 @@ rm -rf "$WORK"; mkdir -p "$WORK" "$OUT"
 RFLUX="rfluxmtx -ab 5 -ad 700 -lw 3e-6 -w- -n $NPROC"
 FEPS=1e-5
 
+want() { [[ -z ${BSDF_ONLY:-} || ${BSDF_ONLY} == "$1" ]]; }
 round4() { awk '{ for (i = 1; i <= NF; i++) $i = sprintf("%.4g", $i); print }'; }
 
 # One device: $1 name, $2 scene file (device in z < 0, front at z = 0 facing +Z), $3 rays
@@ -93,25 +96,29 @@ SND
 		rmtxop -fa -t -c y "$WORK/$name.$refl.mtx" | getinfo - | round4 > "$WORK/$name.$rt.dat"
 		wrap="$wrap -$tt $WORK/$name.$tt.dat -$rt $WORK/$name.$rt.dat"
 	done
-	# -s Visible once before the data: every block is photopic.
-	wrap=${wrap/-a kf/-a kf -s Visible}
+	# -s Visible once before the data: every block is photopic. -c divides each outgoing
+	# row by its patch's projected solid angle: rfluxmtx gives flux fractions, a BSDF is
+	# per projected solid angle (wrapBSDF(1); genBSDF does the same).
+	wrap=${wrap/-a kf/-a kf -c -s Visible}
 	$wrap -C "rdaylight radiance-fixtures/bsdf/make.sh: $name" > "$OUT/$name.xml"
 }
 
 # (a) Venetian blinds: 20 slats of 25 mm, 1 m x 0.5 m, tilted 45 degrees, reflectance 0.5
-# (plastic, no specularity). genblinds stacks slats along z with their depth along y; -rx
-# -90 turns depth to -z (into z < 0) and the stack along y.
+# (plastic, no specularity). genblinds puts the slats' depth along x, their length along y
+# and stacks them along z; -ry 90 turns the depth to -z (into z < 0) and the stack to x,
+# -rz 90 then stacks them along y (the up direction of the senders' u=-Y frame) with
+# their length along x.
 cat > "$WORK/blinds45.rad" <<'EOF2'
 void plastic slat_mat
 0
 0
 5 0.5 0.5 0.5 0 0
 EOF2
-genblinds slat_mat blinds 0.025 1 0.5 20 45 | xform -rx -90 > "$WORK/blinds_raw.rad"
+genblinds slat_mat blinds 0.025 1 0.5 20 45 | xform -ry 90 -rz 90 > "$WORK/blinds_raw.rad"
 read -r bx0 bx1 by0 by1 bz0 bz1 < <(getbbox -h -w "$WORK/blinds_raw.rad")
 xform -t "$(awk "BEGIN{print -($bx0+$bx1)/2}")" "$(awk "BEGIN{print -($by0+$by1)/2}")" \
 	"$(awk "BEGIN{print -($bz1)-0.001}")" "$WORK/blinds_raw.rad" >> "$WORK/blinds45.rad"
-make_klems blinds45 "$WORK/blinds45.rad" "$NSAMP"
+want blinds45 && make_klems blinds45 "$WORK/blinds45.rad" "$NSAMP"
 
 # (b) Roller shade: one diffusing sheet 1 mm behind z = 0, Radiance `trans`: colour 0.6,
 # trans 0.35 of which tspec 0.45 passes straight through, so the openness (specular
@@ -131,14 +138,14 @@ shade_fabric polygon shade
 	 0.5  0.25 -0.001
 	-0.5  0.25 -0.001
 EOF2
-make_klems shade10 "$WORK/shade10.rad" "$SHADE_NSAMP"
+want shade10 && make_klems shade10 "$WORK/shade10.rad" "$SHADE_NSAMP"
 
 # (c) A tensor tree (isotropic, rank 3, up to 2^5 per dimension, both incident sides) of an
 # analytic, reciprocal BSDF (bsdf2ttree cannot resample Klems XML): front and back
 # reflection Lambertian 0.2/pi; transmission 0.05/pi plus a Phong-like lobe
 # 0.5 max(0, -i.o)^20 around the straight-through direction (vectors point away from the
 # surface, so straight through is o = -i).
-bsdf2ttree -p -t3 -g 5 +forward +backward \
+want lobe_tt && bsdf2ttree -p -t3 -g 5 +forward +backward \
 	-e 'tt(ix,iy,iz,ox,oy,oz) = if(-iz*oz, .05/PI + .5*max(0, -(ix*ox+iy*oy+iz*oz))^20, .2/PI)' \
 	tt > "$OUT/lobe_tt.xml"
 

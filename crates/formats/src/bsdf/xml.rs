@@ -191,7 +191,9 @@ fn unescape(raw: &str) -> std::result::Result<String, String> {
     while let Some(i) = rest.find('&') {
         out.push_str(&rest[..i]);
         rest = &rest[i..];
-        let Some(end) = rest[..rest.len().min(12)].find(';') else {
+        // Look for the ';' within 12 characters (a char boundary, whatever the text).
+        let window = rest.char_indices().nth(12).map_or(rest.len(), |(i, _)| i);
+        let Some(end) = rest[..window].find(';') else {
             return Err(format!(
                 "an entity reference ending in ';' after '&' (found '{}')",
                 rest.chars().take(12).collect::<String>()
@@ -443,6 +445,16 @@ mod tests {
         let doc = "<a>".repeat(100_000);
         let e = parse(&doc, "d.xml").unwrap_err().to_string();
         assert!(e.contains("nested at most"), "{e}");
+    }
+
+    #[test]
+    fn multibyte_text_after_an_ampersand_does_not_panic() {
+        // Found by tests/all/bsdf.rs's random bytes: a 12-byte window cut a character.
+        let e = parse("<a>&V!\u{fffd}\u{fffd}\u{fffd}\u{fffd}</a>", "m.xml").unwrap_err();
+        assert!(
+            e.to_string().starts_with("m.xml:1: expected an entity"),
+            "{e}"
+        );
     }
 
     #[test]
