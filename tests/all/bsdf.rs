@@ -181,7 +181,7 @@ fn sampling_matches_evaluation_and_conserves_energy() {
             [0.1, -0.9, -0.3],
             [-0.5, -0.5, 0.5],
         ] {
-            let n = (wo[0] * wo[0] + wo[1] * wo[1] + wo[2] * wo[2]) as f64;
+            let n: f64 = wo[0] * wo[0] + wo[1] * wo[1] + wo[2] * wo[2];
             let wo = [wo[0] / n.sqrt(), wo[1] / n.sqrt(), wo[2] / n.sqrt()];
             let front = wo[1] > 0.0;
             let m = 200_000;

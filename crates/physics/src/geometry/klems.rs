@@ -277,13 +277,13 @@ impl KlemsFrame {
     pub fn new(normal: [f64; 3], up: [f64; 3]) -> Option<KlemsFrame> {
         use crate::vec3::{cross, dot, normalized};
         let nl = dot(normal, normal).sqrt();
-        if !(nl > 0.0) {
+        if nl.is_nan() || nl <= 0.0 {
             return None;
         }
         let z = normalized(normal);
         let ux = cross(up, z);
         let l = dot(ux, ux).sqrt();
-        if !(l > 1e-9 * dot(up, up).sqrt().max(1e-300)) {
+        if l.is_nan() || l <= 1e-9 * dot(up, up).sqrt().max(1e-300) {
             return None;
         }
         let x = normalized(ux);

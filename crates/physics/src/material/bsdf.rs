@@ -903,12 +903,57 @@ mod tests {
     fn xyz_to_rgb_inverts_rgb_to_xyz() {
         let a = rgb_to_xyz(&STD_PRIMARIES);
         let b = xyz_to_rgb_matrix();
-        for r in 0..3 {
-            for c in 0..3 {
-                let v: f64 = (0..3).map(|k| b[r][k] * a[k][c]).sum();
-                assert!((v - f64::from(u8::from(r == c))).abs() < 1e-12);
-            }
+        // b a = identity, element by element.
+        for (r, c) in (0..3).flat_map(|r| (0..3).map(move |c| (r, c))) {
+            let v: f64 = (0..3).map(|k| b[r][k] * a[k][c]).sum();
+            assert!((v - f64::from(u8::from(r == c))).abs() < 1e-12);
         }
+    }
+
+    fn proxy(thick: f64, absdf: bool) -> Bsdf {
+        Bsdf {
+            data: std::sync::Arc::new(KlemsBsdf::default()),
+            up: [0.0, 0.0, 1.0],
+            thick,
+            absdf,
+            rdiff_front: [0.0; 3],
+            rdiff_back: [0.0; 3],
+            tdiff: [0.2; 3],
+            st: 0.15,
+            ch: crate::radiometry::Channels::rgb(),
+        }
+    }
+
+    #[test]
+    fn thickness_makes_a_proxy_as_m_bsdf_does() {
+        let s = super::super::Surface::flat([0.0, 1.0, 0.0]);
+        let (front, back) = ([0.0, 1.0, 0.0], [0.0, -1.0, 0.0]);
+        // No thickness: nothing passes; shadow rays are blocked.
+        let b = proxy(0.0, false);
+        assert!(!b.passes(front, &s, true) && !b.passes(back, &s, false));
+        assert!(b.shadow_transmission(front, &s).is_none());
+        assert!(b.transmit_offset(&s).is_none());
+        // Positive thickness: view rays pass, rays from the back pass, samples from the
+        // front stay; shadow rays pass; transmitted samples move behind the surface.
+        let b = proxy(0.01, false);
+        assert!(b.passes(front, &s, true) && b.passes(back, &s, false));
+        assert!(!b.passes(front, &s, false));
+        assert_eq!(
+            b.shadow_transmission(front, &s).unwrap().as_slice(),
+            &[1.0f32; 3][..]
+        );
+        assert_eq!(b.transmit_offset(&s), Some([0.0, -0.01, 0.0]));
+        // Negative thickness: the front is the hidden side.
+        let b = proxy(-0.01, false);
+        assert!(b.passes(front, &s, false) && !b.passes(back, &s, false));
+        // Extra diffuse transmission alone: a Lambertian transmitter (rho_t cos omega / pi).
+        let b = proxy(0.0, false);
+        let c = b.eval_direct(front, back, &s, 0.01).as_slice()[1] as f64;
+        assert!((c - 0.2 * 0.01 / std::f64::consts::PI).abs() < 1e-9, "{c}");
+        // An up vector along the normal makes the surface black.
+        let mut b = proxy(0.0, false);
+        b.up = [0.0, 1.0, 0.0];
+        assert!(b.sample(front, &s, 0.5, 0.5, 0.5).is_none());
     }
 
     #[test]

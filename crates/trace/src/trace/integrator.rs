@@ -567,7 +567,7 @@ impl Renderable {
             if smp.kind.is_transmission() {
                 let s = Surface::flat(v.hit.normal.to_array());
                 if let Some(off) = b.transmit_offset(&s) {
-                    next.org = next.org + Vec3::from(off);
+                    next.org += Vec3::from(off);
                 }
             }
         }
