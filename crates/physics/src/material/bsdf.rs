@@ -956,6 +956,56 @@ mod tests {
         assert!(b.sample(front, &s, 0.5, 0.5, 0.5).is_none());
     }
 
+    /// CIE-X/Y/Z blocks become Radiance RGB (standard primaries) in dctimestep's T; a
+    /// Visible-only file is grey. A 2-patch basis keeps the numbers readable.
+    #[test]
+    fn xyz_blocks_give_rgb_and_visible_alone_grey() {
+        let block = |ch: &str, v: &str| {
+            format!(
+                "<WavelengthData><Wavelength>{ch}</Wavelength><WavelengthDataBlock>\
+                 <WavelengthDataDirection>Transmission Front</WavelengthDataDirection>\
+                 <ColumnAngleBasis>B</ColumnAngleBasis><RowAngleBasis>B</RowAngleBasis>\
+                 <ScatteringData>{v}</ScatteringData></WavelengthDataBlock></WavelengthData>"
+            )
+        };
+        let doc = |blocks: String| {
+            format!(
+                "<WindowElement><Optical><Layer><DataDefinition>\
+                 <IncidentDataStructure>Columns</IncidentDataStructure><AngleBasis>\
+                 <AngleBasisName>B</AngleBasisName><AngleBasisBlock><nPhis>1</nPhis>\
+                 <ThetaBounds><LowerTheta>0</LowerTheta><UpperTheta>45</UpperTheta></ThetaBounds>\
+                 </AngleBasisBlock><AngleBasisBlock><nPhis>1</nPhis><ThetaBounds>\
+                 <LowerTheta>45</LowerTheta><UpperTheta>90</UpperTheta></ThetaBounds>\
+                 </AngleBasisBlock></AngleBasis></DataDefinition>{blocks}</Layer></Optical>\
+                 </WindowElement>"
+            )
+        };
+        let grey =
+            rdaylight_formats::bsdf::parse(&doc(block("Visible", "1 2 3 4")), "g.xml").unwrap();
+        let t = transmission_matrix(&grey, "g.xml").unwrap();
+        let lam0 = std::f64::consts::PI * 0.5; // pi (sin^2 45 - 0)
+        assert!((t.get(0, 0)[0] - lam0).abs() < 1e-12 && t.get(0, 0)[0] == t.get(0, 0)[2]);
+        let xyz = format!(
+            "{}{}{}",
+            block("CIE-X", "0.5 0 0 0"),
+            block("Visible", "1 0 0 0"),
+            block("CIE-Z", "0.25 0 0 0")
+        );
+        let c = rdaylight_formats::bsdf::parse(&doc(xyz), "c.xml").unwrap();
+        let t = transmission_matrix(&c, "c.xml").unwrap();
+        let m = xyz_to_rgb_matrix();
+        let rgb = t.get(0, 0);
+        for k in 0..3 {
+            let want = (m[k][0] * 0.5 + m[k][1] + m[k][2] * 0.25).max(0.0) * lam0;
+            assert!((rgb[k] - want).abs() < 1e-12, "{k}: {rgb:?}");
+        }
+        // The photopic value of the colour is the Visible value (Y), as it must be.
+        assert!(
+            (crate::radiometry::photopic(rgb) - lam0).abs() < 1e-3 * lam0,
+            "{rgb:?}"
+        );
+    }
+
     #[test]
     fn opposite_azimuth_is_an_involution() {
         let b = KlemsBasis::new(crate::geometry::klems::KlemsKind::Full);
