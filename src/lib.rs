@@ -43,7 +43,7 @@
 pub mod cli;
 
 pub use rdaylight_base::{Error, Location, Result, colour, error, io, progress, radiometry, stats};
-pub use rdaylight_formats::{info, scene};
+pub use rdaylight_formats::{bsdf, info, scene};
 pub use rdaylight_physics::{calc, geometry, material, sky};
 pub use rdaylight_trace::{rdc, trace};
 

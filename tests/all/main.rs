@@ -16,6 +16,7 @@
 
 mod common;
 
+mod bsdf;
 mod cal;
 mod cli_help;
 mod fixtures;

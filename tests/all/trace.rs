@@ -345,9 +345,10 @@ fn unsupported_inputs_name_file_and_line() {
             "local light source",
         ),
         (
-            "void BSDF b 6 0 x.xml 0 0 1 . 0 0\nb polygon p 0 0 9 0 0 0 1 0 0 0 1 0\n",
+            // BSDF materials load now; their function files do not.
+            "void BSDF b 6 0 x.xml 0 0 1 my.cal 0 0\nb polygon p 0 0 9 0 0 0 1 0 0 0 1 0\n",
             "test.rad:1",
-            "BSDF",
+            "function file 'my.cal' (only '.') on BSDF 'b'",
         ),
     ];
     for (text, loc, what) in cases {

@@ -6,6 +6,7 @@
 //!
 //! | module | format | Radiance source |
 //! |---|---|---|
+//! | [`bsdf`] | BSDF XML (LBNL WINDOW 6 schema: Klems matrices, tensor trees) | `src/common/bsdf.c`, `bsdf_m.c`, `bsdf_t.c` |
 //! | [`header`] | information header (`#?RADIANCE` ... empty line) | `src/common/header.c` |
 //! | [`matrix`] | matrices: ascii/float/double/RGBE, `NROWS`/`NCOLS`/`NCOMP` | `src/util/rmatrix.c` |
 //! | [`picture`] | pictures: RGBE/XYZE (flat, old and new RLE), spectral, EXR, PNG | `src/common/color.c` |
@@ -17,6 +18,7 @@
 
 use rdaylight_base::{colour, error, io, progress, radiometry, vec3};
 
+pub mod bsdf;
 pub mod header;
 pub mod hours;
 pub mod info;

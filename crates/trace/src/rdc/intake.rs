@@ -36,6 +36,8 @@ pub const SUPPORTED: &[&str] = &[
     "trans",
     "glass",
     "mirror",
+    "BSDF",
+    "aBSDF",
     "illum",
     "spectrum",
     "specfile",

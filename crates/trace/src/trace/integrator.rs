@@ -41,8 +41,8 @@
 //! Once a path has taken a diffuse or Gaussian-specular sample it no longer sees direct
 //! sources (the sun): next-event estimation counted them. Glow skies (`glow` on `source`)
 //! are never direct sources and are seen by every escaping ray; a `glow` surface with
-//! maxrad 0 is seen by every ray. Shadow rays pass `glass`, pure-specular `trans` and
-//! nothing else (no caustics through mirrors: Radiance's virtual sources `-dr` are not
+//! maxrad 0 is seen by every ray. Shadow rays pass `glass`, pure-specular `trans`, `BSDF`
+//! with a thickness (a proxy), `aBSDF` (its straight-through peak) and nothing else (no caustics through mirrors: Radiance's virtual sources `-dr` are not
 //! modelled, so sunlight reflected by a `mirror` is missing, as with `rtrace -dr 0`).
 //!
 //! ## Daylight coefficients (`dc_sensor`)
@@ -440,6 +440,14 @@ impl Renderable {
                 normal: h.normal.to_array(),
                 flat: info.flat,
             };
+            // A BSDF with thickness is a proxy: view rays and rays from its hidden side pass
+            // (m_bsdf.c `raytrans`), staying the same ray.
+            if let Material::Bsdf(b) = m {
+                if b.passes(wo.to_array(), &s, st.depth == 0) {
+                    ray = h.spawn(ray.dir);
+                    continue;
+                }
+            }
             if let Material::Emitter(e) = m {
                 if mode == Mode::Values && (st.sees_sources || e.counts_for_indirect(h.t)) {
                     out += st.beta * e.emission(wo.to_array(), &s);
@@ -552,7 +560,18 @@ impl Renderable {
             st.beta = st.beta.scale(1.0 / p);
         }
         st.depth += 1;
-        Some((v.hit.spawn(Vec3::from(smp.wi)), st))
+        let mut next = v.hit.spawn(Vec3::from(smp.wi));
+        // A BSDF's thickness moves transmitted samples behind it (m_bsdf.c: `-thick` along
+        // the surface normal), past the geometry it stands for.
+        if let Material::Bsdf(b) = v.material {
+            if smp.kind.is_transmission() {
+                let s = Surface::flat(v.hit.normal.to_array());
+                if let Some(off) = b.transmit_offset(&s) {
+                    next.org += Vec3::from(off);
+                }
+            }
+        }
+        Some((next, st))
     }
 
     /// Daylight coefficients of one sensor, rcontrib `-I+ -V-` style (see the module

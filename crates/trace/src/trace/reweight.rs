@@ -238,7 +238,8 @@ pub fn scales_with_colour(m: &Material, kind: SampleKind) -> bool {
         },
         Material::Mirror(_) => true,
         Material::Glass(_) => kind == SampleKind::PureTransmit,
-        Material::Emitter(_) | Material::Void { .. } => false,
+        // BSDF data is measured, not a colour to re-weight.
+        Material::Emitter(_) | Material::Void { .. } | Material::Bsdf(_) => false,
     }
 }
 
