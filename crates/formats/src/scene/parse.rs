@@ -205,6 +205,7 @@ impl<'t> Source<'t> {
 pub(crate) struct Loader<'o> {
     opts: &'o LoadOptions,
     objects: Vec<Object>,
+    directives: Vec<super::Directive>,
     /// Most recent modifier with each id (`modobject.c` `modtab`).
     modifiers: HashMap<String, usize>,
     /// Inline commands run so far, and the most allowed ([`MAX_COMMANDS`]).
@@ -217,6 +218,7 @@ impl<'o> Loader<'o> {
         Loader {
             opts,
             objects: Vec::new(),
+            directives: Vec::new(),
             modifiers: HashMap::new(),
             commands: 0,
             max_commands: MAX_COMMANDS,
@@ -226,7 +228,13 @@ impl<'o> Loader<'o> {
     pub fn finish(self) -> Scene {
         Scene {
             objects: self.objects,
+            directives: self.directives,
         }
+    }
+
+    /// Objects read so far.
+    pub fn len(&self) -> usize {
+        self.objects.len()
     }
 
     /// Read one scene input as Radiance names them: `-` (stdin), `!command`, or a file.
@@ -269,7 +277,17 @@ impl<'o> Loader<'o> {
             if rest.is_empty() {
                 return Ok(());
             }
-            if let Ok((r, _)) = comment(rest) {
+            if let Ok((r, text)) = comment(rest) {
+                // rfluxmtx reads `#@rfluxmtx` (no space after '#') followed by white space.
+                if let Some(args) = text.strip_prefix(super::RFLUXMTX_DIRECTIVE) {
+                    if args.is_empty() || args.starts_with(char::is_whitespace) {
+                        self.directives.push(super::Directive {
+                            before: self.objects.len(),
+                            text: args.trim().to_string(),
+                            loc: src.at(src.pos),
+                        });
+                    }
+                }
                 src.advance(r);
             } else if let Ok((r, cmd)) = command_line(rest) {
                 let loc = src.at(src.pos);

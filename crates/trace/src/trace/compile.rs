@@ -488,9 +488,10 @@ impl Renderable {
         for (i, o) in scene.objects.iter().enumerate() {
             match &o.kind {
                 Primitive::Source { direction, angle } => {
-                    if let Some(s) =
+                    if let Some(mut s) =
                         distant_source(&cal, scene, i, o, *direction, *angle, ch, opts)?
                     {
+                        s.scene_index = i;
                         sources.list.push(s);
                     }
                     continue;
