@@ -633,6 +633,40 @@ mod tests {
     }
 
     #[test]
+    fn flux_takes_rfluxmtx_arguments() {
+        let o = parse(&[
+            "--flux", "-c", "100", "-ab", "2", "w.rad", "sky.rad", "room.rad",
+        ]);
+        let run = o.to_run(None, &["rdc".into()]).unwrap();
+        assert_eq!(run.scene, ["room.rad"]);
+        assert_eq!(
+            run.config.target,
+            Target::Flux(Flux {
+                sender: SenderInput::File("w.rad".into()),
+                receiver: "sky.rad".into(),
+                samples: Some(100),
+            })
+        );
+        let o = parse(&["--flux", "-I+", "-", "w.rad", "room.rad"]);
+        let c = o.to_config().unwrap();
+        assert!(c.irradiance);
+        assert!(matches!(
+            c.target,
+            Target::Flux(Flux {
+                sender: SenderInput::Stdin,
+                ..
+            })
+        ));
+        for bad in [
+            &["-c", "5", "room.rad"][..],
+            &["--flux", "-m", "1", "w.rad", "s.rad"],
+            &["--flux", "w.rad"],
+        ] {
+            assert!(parse(bad).to_config().is_err(), "{bad:?}");
+        }
+    }
+
+    #[test]
     fn bad_formats_are_errors() {
         for f in ["-fx", "-fca", "-faaa"] {
             assert!(parse(&[f]).formats().is_err(), "{f}");

@@ -623,4 +623,39 @@ mod tests {
         assert_eq!(command_line("!a \\\nb\nc").unwrap(), ("\nc", "a \\\nb"));
         assert_eq!(command_line("!a\\b").unwrap(), ("", "a\\b"));
     }
+
+    #[test]
+    fn rfluxmtx_directives_are_kept_with_their_place() {
+        let text = "# a plain comment\n#@rfluxmtx h=kf u=+Z\nvoid glow g 0 0 4 1 1 1 0\n\
+                    g polygon w 0 0 9 0 0 0 1 0 0 1 1 0\n#@rfluxmtxx no\n# @rfluxmtx no\n\
+                    #@rfluxmtx o=b.mtx\n";
+        let s = crate::scene::parse_str(text, "t.rad", Path::new(""), &Default::default()).unwrap();
+        let kept: Vec<(usize, &str, Option<usize>)> = s
+            .directives
+            .iter()
+            .map(|d| (d.before, d.text.as_str(), d.loc.line))
+            .collect();
+        assert_eq!(kept, [(0, "h=kf u=+Z", Some(2)), (2, "o=b.mtx", Some(7))]);
+        // Written back before the objects they preceded, so a rewritten file keeps them.
+        let again =
+            crate::scene::parse_str(&s.to_string(), "u.rad", Path::new(""), &Default::default())
+                .unwrap();
+        assert_eq!(again.objects.len(), s.objects.len());
+        assert!(
+            again
+                .objects
+                .iter()
+                .zip(&s.objects)
+                .all(|(a, b)| a.same_content(b))
+        );
+        let texts: Vec<_> = again
+            .directives
+            .iter()
+            .map(|d| (d.before, d.text.clone()))
+            .collect();
+        assert_eq!(
+            texts,
+            [(0, "h=kf u=+Z".to_string()), (2, "o=b.mtx".to_string())]
+        );
+    }
 }

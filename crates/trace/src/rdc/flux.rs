@@ -223,12 +223,14 @@ impl Params {
     }
 }
 
+/// A triangle `(a, b, c)` of a polygon with its share of the polygon's area.
+type Triangle = ([f64; 3], [f64; 3], [f64; 3], f64);
+
 /// A planar element of a sender or receiver.
 #[derive(Debug, Clone)]
 enum Shape {
-    /// Triangles `(a, b, c)` with their share of the polygon's area.
     Polygon {
-        tris: Vec<([f64; 3], [f64; 3], [f64; 3], f64)>,
+        tris: Vec<Triangle>,
     },
     Ring {
         center: [f64; 3],
@@ -270,7 +272,7 @@ fn element(kind: &Primitive, loc: &Location, id: &str) -> Result<Option<Element>
             let vs: Vec<Vec3> = vertices.iter().map(|&v| Vec3::from(v)).collect();
             let nn = newell_normal(&vs);
             let area = nn.length();
-            if !(area > 0.0) {
+            if area.is_nan() || area <= 0.0 {
                 return Ok(None);
             }
             let idx = triangulate(&vs).map_err(|e| e.at(loc.clone()))?;
@@ -298,7 +300,7 @@ fn element(kind: &Primitive, loc: &Location, id: &str) -> Result<Option<Element>
             let l = dot(*normal, *normal).sqrt();
             let (r0, r1) = (r0.min(*r1), r0.max(*r1));
             let area = PI * (r1 * r1 - r0 * r0);
-            if !(l > 0.0 && area > 0.0) {
+            if l.is_nan() || area.is_nan() || l <= 0.0 || area <= 0.0 {
                 return Ok(None);
             }
             let n = scale(*normal, 1.0 / l);
@@ -315,7 +317,7 @@ fn element(kind: &Primitive, loc: &Location, id: &str) -> Result<Option<Element>
         }
         Primitive::Source { direction, angle } => {
             let l = dot(*direction, *direction).sqrt();
-            if !(l > 0.0) {
+            if l.is_nan() || l <= 0.0 {
                 return Err(Error::parse(
                     loc.clone(),
                     format!("source '{id}' has no direction; expected a non-zero vector"),
@@ -735,7 +737,7 @@ impl Sender {
             &self.elements[0]
         } else {
             let total: f64 = self.elements.iter().map(weight).sum();
-            if !(total > 0.0) {
+            if total.is_nan() || total <= 0.0 {
                 return None;
             }
             let mut x = rng.random::<f64>() * total;
@@ -870,6 +872,12 @@ pub fn main(run: &Run, flux: &Flux, progress: &dyn Progress) -> Result<()> {
             let rays = reader.collect::<Result<Vec<_>>>()?;
             if rays.is_empty() {
                 return Err(crate::formats::sensors::no_sensors("<stdin>"));
+            }
+            if let Some(y) = run.y.filter(|&y| y != rays.len()) {
+                return Err(Error::parse(
+                    Location::file("<stdin>"),
+                    format!("{} sensors read, -y announced {y}", rays.len()),
+                ));
             }
             rays
         }

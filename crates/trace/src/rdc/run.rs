@@ -496,9 +496,15 @@ impl Run {
             }
         }
         if matches!(self.config.target, Target::Flux(_)) {
+            // -y (the sensor count, as honeybee passes it to rfluxmtx) is checked with
+            // sensors from standard input; a sender file sets the rows itself.
+            let sender_file = matches!(
+                &self.config.target,
+                Target::Flux(f) if matches!(f.sender, super::config::SenderInput::File(_))
+            );
             let refused = [
                 (self.shard.is_some(), "--shard"),
-                (self.y.is_some(), "-y"),
+                (self.y.is_some() && sender_file, "-y and a sender file"),
                 (self.illuminance, "-oi"),
                 (self.se_out.is_some(), "--se-out"),
             ];
