@@ -1110,6 +1110,33 @@ mod tests {
     }
 
     #[test]
+    fn directive_prefixes_and_junk_never_panic() {
+        let texts = [
+            "h=-kf u=0.1,0.2,1 o='my file.mtx'",
+            "h=r4 u=-Y o=\"a b\"",
+            "h= u= o=",
+            "x=1 h=kq",
+            "h=kf u=1,2 o=!cmd",
+            "\u{e9}=\u{e9} h=\u{e9}",
+        ];
+        for t in texts {
+            for end in (0..=t.len()).filter(|&e| t.is_char_boundary(e)) {
+                let d = Directive {
+                    before: 0,
+                    text: t[..end].to_string(),
+                    loc: Location::line("t.rad", 1),
+                };
+                let mut p = Params::default();
+                if let Err(e) = p.apply(&d) {
+                    let m = e.to_string();
+                    assert!(m.starts_with("t.rad:1"), "{m}");
+                    assert!(!m.contains('\n'), "{m}");
+                }
+            }
+        }
+    }
+
+    #[test]
     fn directives_follow_rfluxmtx_scoping() {
         // h= carries over to the second receiver, o= does not: mixed outputs are refused.
         let s = scene(
