@@ -1110,6 +1110,38 @@ mod tests {
     }
 
     #[test]
+    fn reinhart_sender_rays_land_in_their_own_sky_patch() {
+        // A downward-facing (normal -Z) sender with h=r1 u=+Y sends its rays up, through
+        // the frame of the usual sky receiver: every patch's rays bin into that patch.
+        let snd = scene(
+            "#@rfluxmtx h=r1 u=+Y\nvoid glow g 0 0 4 1 1 1 0\ng polygon p 0 0 12 0 0 0 0 1 0 1 1 0 1 0 0\n",
+        );
+        let snd = Sender::from_scene(&snd, 0..snd.objects.len(), "s.rad").unwrap();
+        let sky = scene(
+            "#@rfluxmtx h=r1 u=+Y\nvoid glow skyglow 0 0 4 1 1 1 0\nskyglow source sky 0 0 4 0 0 1 180\n",
+        );
+        let r = Receivers::from_scene(&sky, 0..sky.objects.len(), "t.rad").unwrap();
+        assert_eq!(snd.rows(), 145);
+        let mut rng = super::super::tracer::record_rng(3, 4);
+        for b in 0..145 {
+            for k in 0..16 {
+                let q = snd
+                    .query(
+                        b,
+                        Stratum {
+                            index: k,
+                            count: 16,
+                        },
+                        &mut rng,
+                    )
+                    .unwrap();
+                assert!(q.dir[2] > 0.0);
+                assert_eq!(r.column(1, q.dir), Some(b), "patch {b}");
+            }
+        }
+    }
+
+    #[test]
     fn directive_prefixes_and_junk_never_panic() {
         let texts = [
             "h=-kf u=0.1,0.2,1 o='my file.mtx'",
