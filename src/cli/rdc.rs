@@ -29,7 +29,9 @@ use crate::formats::shard::Shard;
 use crate::formats::view::View;
 use crate::material::RgbUplift;
 use crate::radiometry::Channels;
-use crate::rdc::{Adaptive, Config, Preset, Reweight, Run, Sampling, SunSource, Target};
+use crate::rdc::{
+    Adaptive, Config, Flux, Preset, Reweight, Run, Sampling, SenderInput, SunSource, Target,
+};
 use clap::Parser;
 
 pub const EXAMPLES: &str = "\
@@ -51,6 +53,12 @@ Examples:
   Point-in-time illuminance under a CIE sky (as rtrace -I -h ... | rcalc 179*...):
     gensky 3 21 12 +s > sky.rad; cat skyglow.rad >> sky.rad
     rdc -I -oi --preset standard room.rad sky.rad < sensors.pts
+  Three-phase matrices as rfluxmtx (rdc --flux takes rfluxmtx's arguments):
+    rdc --flux -I -ab 5 -ad 10000 -lw 1e-5 -faf - window.rad room.rad < sensors.pts > view.vmx
+    rdc --flux -ab 2 -ad 1000 -lw 1e-4 -c 1000 -faf window.rad sky.rad room.rad > daylight.dmx
+    dctimestep view.vmx blinds.xml daylight.dmx sky.smx | rmtxop -fa -c 47.4 119.9 11.6 - > ill.txt
+  (window.rad: '#@rfluxmtx h=kf u=Z' then glow polygons facing into the room; sky.rad:
+  '#@rfluxmtx h=u u=Y' on a ground glow source, '#@rfluxmtx h=r1 u=Y' on the sky glow source.)
   A 180-degree fisheye picture, then glare:
     rdc -vta -vp 3 2 1.2 -vd 0 1 0 -vh 180 -vv 180 -x 512 -y 512 room.rad sky.rad > eye.hdr
     evalglare eye.hdr";
@@ -283,6 +291,21 @@ pub struct Options {
     #[arg(long = "manifest", value_name = "FILE")]
     pub manifest: Option<String>,
 
+    /// Sender/receiver mode, rfluxmtx's command line: `rdc --flux [opts] sender.rad|-
+    /// receivers.rad scene.rad...` (the first two arguments are the sender and the
+    /// receiver file). Surfaces carry `#@rfluxmtx h=kf|kh|kq|rN|u u=[-]X|Y|Z|x,y,z o=FILE`
+    /// lines; each receiver modifier gives its basis's columns (to FILE with o=, else all
+    /// side by side on standard output); a sender file gives one row per basis patch
+    /// (-c N rays each, default 10000), `-` one row per ray or -I sensor from standard
+    /// input (the view matrix). Rays leave the back of the sender and arrive at the front
+    /// of receivers, as in rfluxmtx. Not offered: -bj, -i octree, h=sc/cie, o=!command.
+    #[arg(long = "flux")]
+    pub flux: bool,
+
+    /// With --flux and a sender file: rays per sender patch (rfluxmtx -c; default 10000).
+    #[arg(short = 'c', value_name = "N")]
+    pub samples: Option<usize>,
+
     /// Print help.
     #[arg(long = "help", action = clap::ArgAction::Help)]
     pub help: Option<bool>,
@@ -436,6 +459,31 @@ impl Options {
         if self.reweight_materials.is_some() && self.reweight.is_none() {
             return usage("--reweight-materials needs --reweight FILE");
         }
+        if self.samples.is_some() && !self.flux {
+            return usage("-c N needs --flux (rays per sender patch)");
+        }
+        if self.flux {
+            if self.mf.is_some() || self.suns.is_some() {
+                return usage(
+                    "--flux with -m or --suns: the receivers' #@rfluxmtx h= lines give the columns",
+                );
+            }
+            let [sender, receiver, ..] = self.scene.as_slice() else {
+                return usage(
+                    "--flux needs a sender (a file or - for standard input) and a receiver file before the scene files",
+                );
+            };
+            let sender = if sender == "-" {
+                SenderInput::Stdin
+            } else {
+                SenderInput::File(sender.clone())
+            };
+            return self.config_with(Target::Flux(Flux {
+                sender,
+                receiver: receiver.clone(),
+                samples: self.samples,
+            }));
+        }
         let target = match (self.mf, &self.suns) {
             (Some(mf), _) => Target::Sky {
                 mf,
@@ -449,6 +497,11 @@ impl Options {
             },
             (None, None) => Target::Values,
         };
+        self.config_with(target)
+    }
+
+    /// The configuration for `target` with every other option.
+    fn config_with(&self, target: Target) -> Result<Config> {
         Ok(Config {
             sampling: self.sampling(),
             channels: self.channels()?,
@@ -474,9 +527,15 @@ impl Options {
         let (input, output) = self.formats()?;
         let mut load = crate::scene::LoadOptions::from_env();
         load.allow_exec &= !self.no_exec;
+        // With --flux the first two arguments are the sender and the receiver file.
+        let scene = if self.flux {
+            self.scene.iter().skip(2).cloned().collect()
+        } else {
+            self.scene.clone()
+        };
         let run = Run {
             config: self.to_config()?,
-            scene: self.scene.clone(),
+            scene,
             load,
             input,
             output,
@@ -571,6 +630,40 @@ mod tests {
         assert_eq!((s.ab, s.ad, s.lw), (3, 10, 1e-3));
         let d = parse(&[]).sampling();
         assert_eq!((d.ab, d.ad, d.lw, d.lr), (1, 350, 2e-3, -10));
+    }
+
+    #[test]
+    fn flux_takes_rfluxmtx_arguments() {
+        let o = parse(&[
+            "--flux", "-c", "100", "-ab", "2", "w.rad", "sky.rad", "room.rad",
+        ]);
+        let run = o.to_run(None, &["rdc".into()]).unwrap();
+        assert_eq!(run.scene, ["room.rad"]);
+        assert_eq!(
+            run.config.target,
+            Target::Flux(Flux {
+                sender: SenderInput::File("w.rad".into()),
+                receiver: "sky.rad".into(),
+                samples: Some(100),
+            })
+        );
+        let o = parse(&["--flux", "-I+", "-", "w.rad", "room.rad"]);
+        let c = o.to_config().unwrap();
+        assert!(c.irradiance);
+        assert!(matches!(
+            c.target,
+            Target::Flux(Flux {
+                sender: SenderInput::Stdin,
+                ..
+            })
+        ));
+        for bad in [
+            &["-c", "5", "room.rad"][..],
+            &["--flux", "-m", "1", "w.rad", "s.rad"],
+            &["--flux", "w.rad"],
+        ] {
+            assert!(parse(bad).to_config().is_err(), "{bad:?}");
+        }
     }
 
     #[test]

@@ -33,6 +33,7 @@ mod rcalib_spectral;
 mod rdc_agreement;
 mod rdc_api;
 mod rdc_cli;
+mod rdc_flux;
 mod rdc_reweight;
 mod rdc_shard;
 mod rdc_suns_ab;

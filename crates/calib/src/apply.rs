@@ -213,6 +213,7 @@ pub fn apply(
     let n_orig = s.objects.len() - added.objects.len();
     let orig = Scene {
         objects: s.objects[..n_orig].to_vec(),
+        directives: s.directives.clone(),
     };
     out.push_str(&orig.to_string());
     out.push('\n');

@@ -72,5 +72,9 @@ pub fn filter(scene: &Scene, analysis: &Analysis, level: u8) -> Result<Scene> {
             o
         })
         .collect();
-    Ok(Scene { objects })
+    // `#@rfluxmtx` lines refer to object positions the filter changed: dropped.
+    Ok(Scene {
+        objects,
+        directives: Vec::new(),
+    })
 }

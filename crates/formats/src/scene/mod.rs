@@ -161,16 +161,48 @@ impl Object {
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Scene {
     pub objects: Vec<Object>,
+    /// `#@rfluxmtx` comment lines, in input order ([`Directive`]).
+    pub directives: Vec<Directive>,
 }
+
+/// A `#@rfluxmtx variable=value ...` comment line (`rfluxmtx(1)`: the hemisphere basis,
+/// up vector and output of the sender or receiver surfaces that follow it). Every other
+/// comment is dropped; these are kept because they carry meaning for `rdc`'s
+/// sender/receiver mode (`rdaylight_trace::rdc::flux`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Directive {
+    /// Index in [`Scene::objects`] of the first object after the line (the objects it
+    /// applies to start there).
+    pub before: usize,
+    /// The text after `#@rfluxmtx`, trimmed (`h=kf u=+Z o=v.mtx`).
+    pub text: String,
+    /// Where the line is (`file:line`).
+    pub loc: Location,
+}
+
+/// The word that starts a kept comment: `#@rfluxmtx` (rfluxmtx.c's `PARAMSTART`).
+pub const RFLUXMTX_DIRECTIVE: &str = "#@rfluxmtx";
 
 /// Read scene inputs in order, as `oconv` names them: file paths, `-` for standard input,
 /// `!command` for a command's output. Modifiers defined in one input serve the next ones.
 pub fn load<S: AsRef<str>>(inputs: &[S], opts: &LoadOptions) -> Result<Scene> {
+    Ok(load_parts(inputs, opts)?.0)
+}
+
+/// [`load`], also giving the range of [`Scene::objects`] each input made (rdc's
+/// sender/receiver mode tells the receiver file's objects from the scene's this way).
+pub fn load_parts<S: AsRef<str>>(
+    inputs: &[S],
+    opts: &LoadOptions,
+) -> Result<(Scene, Vec<std::ops::Range<usize>>)> {
     let mut loader = parse::Loader::new(opts);
+    let mut parts = Vec::with_capacity(inputs.len());
     for input in inputs {
+        let start = loader.len();
         loader.load_input(input.as_ref())?;
+        parts.push(start..loader.len());
     }
-    Ok(loader.finish())
+    Ok((loader.finish(), parts))
 }
 
 /// Parse scene text named `name` (for locations); `!` commands run, and `specfile` data files

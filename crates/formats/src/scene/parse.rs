@@ -205,6 +205,7 @@ impl<'t> Source<'t> {
 pub(crate) struct Loader<'o> {
     opts: &'o LoadOptions,
     objects: Vec<Object>,
+    directives: Vec<super::Directive>,
     /// Most recent modifier with each id (`modobject.c` `modtab`).
     modifiers: HashMap<String, usize>,
     /// Inline commands run so far, and the most allowed ([`MAX_COMMANDS`]).
@@ -217,6 +218,7 @@ impl<'o> Loader<'o> {
         Loader {
             opts,
             objects: Vec::new(),
+            directives: Vec::new(),
             modifiers: HashMap::new(),
             commands: 0,
             max_commands: MAX_COMMANDS,
@@ -226,7 +228,13 @@ impl<'o> Loader<'o> {
     pub fn finish(self) -> Scene {
         Scene {
             objects: self.objects,
+            directives: self.directives,
         }
+    }
+
+    /// Objects read so far.
+    pub fn len(&self) -> usize {
+        self.objects.len()
     }
 
     /// Read one scene input as Radiance names them: `-` (stdin), `!command`, or a file.
@@ -269,7 +277,17 @@ impl<'o> Loader<'o> {
             if rest.is_empty() {
                 return Ok(());
             }
-            if let Ok((r, _)) = comment(rest) {
+            if let Ok((r, text)) = comment(rest) {
+                // rfluxmtx reads `#@rfluxmtx` (no space after '#') followed by white space.
+                if let Some(args) = text.strip_prefix(super::RFLUXMTX_DIRECTIVE) {
+                    if args.is_empty() || args.starts_with(char::is_whitespace) {
+                        self.directives.push(super::Directive {
+                            before: self.objects.len(),
+                            text: args.trim().to_string(),
+                            loc: src.at(src.pos),
+                        });
+                    }
+                }
                 src.advance(r);
             } else if let Ok((r, cmd)) = command_line(rest) {
                 let loc = src.at(src.pos);
@@ -604,5 +622,40 @@ mod tests {
     fn commands_join_continuations() {
         assert_eq!(command_line("!a \\\nb\nc").unwrap(), ("\nc", "a \\\nb"));
         assert_eq!(command_line("!a\\b").unwrap(), ("", "a\\b"));
+    }
+
+    #[test]
+    fn rfluxmtx_directives_are_kept_with_their_place() {
+        let text = "# a plain comment\n#@rfluxmtx h=kf u=+Z\nvoid glow g 0 0 4 1 1 1 0\n\
+                    g polygon w 0 0 9 0 0 0 1 0 0 1 1 0\n#@rfluxmtxx no\n# @rfluxmtx no\n\
+                    #@rfluxmtx o=b.mtx\n";
+        let s = crate::scene::parse_str(text, "t.rad", Path::new(""), &Default::default()).unwrap();
+        let kept: Vec<(usize, &str, Option<usize>)> = s
+            .directives
+            .iter()
+            .map(|d| (d.before, d.text.as_str(), d.loc.line))
+            .collect();
+        assert_eq!(kept, [(0, "h=kf u=+Z", Some(2)), (2, "o=b.mtx", Some(7))]);
+        // Written back before the objects they preceded, so a rewritten file keeps them.
+        let again =
+            crate::scene::parse_str(&s.to_string(), "u.rad", Path::new(""), &Default::default())
+                .unwrap();
+        assert_eq!(again.objects.len(), s.objects.len());
+        assert!(
+            again
+                .objects
+                .iter()
+                .zip(&s.objects)
+                .all(|(a, b)| a.same_content(b))
+        );
+        let texts: Vec<_> = again
+            .directives
+            .iter()
+            .map(|d| (d.before, d.text.clone()))
+            .collect();
+        assert_eq!(
+            texts,
+            [(0, "h=kf u=+Z".to_string()), (2, "o=b.mtx".to_string())]
+        );
     }
 }

@@ -101,11 +101,19 @@ impl fmt::Display for Object {
 
 impl fmt::Display for Scene {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        // `#@rfluxmtx` lines go back before the object they preceded (trailing ones last).
+        let mut d = self.directives.iter().peekable();
         for (i, o) in self.objects.iter().enumerate() {
             if i > 0 {
                 writeln!(f)?;
             }
+            while let Some(x) = d.next_if(|x| x.before <= i) {
+                writeln!(f, "{} {}", super::RFLUXMTX_DIRECTIVE, x.text)?;
+            }
             write!(f, "{o}")?;
+        }
+        for x in d {
+            write!(f, "\n{} {}", super::RFLUXMTX_DIRECTIVE, x.text)?;
         }
         Ok(())
     }

@@ -9,7 +9,7 @@
 //! |---|---|---|
 //! | [`Sampling`] `ab ad lw lr dj st ss` | `-ab -ad -lw -lr -dj -st -ss`, `--preset` | rcontrib's letters and defaults |
 //! | [`Config::channels`] | `-cs N -cw a b` | Radiance 6 spectral sampling |
-//! | [`Config::target`] | `-m MF [--direct]`, `--suns MF\|file [--suns-ab] [--sun-angle]`, neither | rcontrib `-e MF:N`, five-phase suns, `rtrace -I` / `rpict` |
+//! | [`Config::target`] | `-m MF [--direct]`, `--suns MF\|file [--suns-ab] [--sun-angle]`, `--flux sender receiver [-c N]`, none | rcontrib `-e MF:N`, five-phase suns, `rfluxmtx`, `rtrace -I` / `rpict` |
 //! | [`Config::irradiance`] | `-I` | `rtrace -I`, `rcontrib -I+` |
 //! | [`Config::adaptive`] | `--target-se`, `--se-row`, `--max-samples` | (none) |
 //! | [`Config::seed`], [`Config::threads`] | `-s`, `-n` | (Radiance has no seed) |
@@ -166,6 +166,9 @@ pub enum Target {
         angle_deg: f64,
         bounces: bool,
     },
+    /// Flux transfer between sender and receiver surfaces (`rfluxmtx`): columns = the
+    /// receivers' basis patches.
+    Flux(Flux),
 }
 
 impl Target {
@@ -182,6 +185,28 @@ impl Target {
     pub fn is_coefficients(&self) -> bool {
         !matches!(self, Target::Values)
     }
+}
+
+/// Where a flux run's rows come from.
+#[derive(Debug, Clone, PartialEq)]
+pub enum SenderInput {
+    /// `-`: sensors or rays from standard input, one row each (the view matrix V).
+    Stdin,
+    /// A sender surface file (`#@rfluxmtx h=kf ...`): one row per basis patch (the
+    /// daylight matrix D, a window-to-window T).
+    File(String),
+}
+
+/// `rdc --flux sender receiver scene...`: flux transfer matrices between sender and
+/// receiver surfaces, as `rfluxmtx` ([`crate::rdc::flux`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Flux {
+    pub sender: SenderInput,
+    /// The receiver file (`#@rfluxmtx h=... u=... o=...`), traced with the scene.
+    pub receiver: String,
+    /// `-c N`: rays per sender patch (rfluxmtx's default 10000 with a sender file; with
+    /// standard input only 1).
+    pub samples: Option<usize>,
 }
 
 /// Adaptive sampling: batches of `ad` until the relative standard error reaches `target_se`.
@@ -305,6 +330,41 @@ impl Config {
             Target::Suns { angle_deg, .. } => {
                 if !(*angle_deg > 0.0 && *angle_deg < 180.0) {
                     return usage("--sun-angle: expected degrees between 0 and 180");
+                }
+            }
+            Target::Flux(f) => {
+                if let Some(c) = f.samples {
+                    if c == 0 {
+                        return usage("-c 0: expected at least 1 ray per sender patch");
+                    }
+                    at_most("-c", c as u64, MAX_AD as u64, samples_why)?;
+                }
+                match &f.sender {
+                    SenderInput::Stdin => {
+                        if f.samples.is_some_and(|c| c > 1) {
+                            return usage(
+                                "-c N with senders from standard input (-): rdc gives one row per ray; average rows afterwards (rmtx) or give a sender file",
+                            );
+                        }
+                    }
+                    SenderInput::File(_) => {
+                        if self.irradiance {
+                            return usage(
+                                "-I with a sender file: a sender's rays are radiance rays; -I is for sensors from standard input (-)",
+                            );
+                        }
+                    }
+                }
+                if picture {
+                    return usage(
+                        "--flux with view options: give rays on standard input (vwrays) with - as the sender",
+                    );
+                }
+                if self.adaptive.is_some() {
+                    return usage("--target-se with --flux: use a fixed -c / -ad");
+                }
+                if self.reweight.is_some() {
+                    return usage("--reweight with --flux: re-weighting records are for -m/--suns");
                 }
             }
         }

@@ -113,18 +113,18 @@ impl Job<'_> {
     pub fn compute(
         &self,
         index: u64,
-        query: &dyn Fn(&mut Rng) -> Option<Query>,
+        query: &dyn Fn(Stratum, &mut Rng) -> Option<Query>,
         tally: &mut Tally,
     ) -> RecordResult {
         tally.clear();
         let mut rng = record_rng(self.seed, index);
         loop {
             for k in 0..self.ad {
-                if let Some(q) = query(&mut rng) {
-                    let stratum = Stratum {
-                        index: k,
-                        count: self.ad,
-                    };
+                let stratum = Stratum {
+                    index: k,
+                    count: self.ad,
+                };
+                if let Some(q) = query(stratum, &mut rng) {
                     self.estimator
                         .sample(&q, &self.mode, stratum, &mut rng, tally);
                 }
@@ -164,7 +164,7 @@ impl Job<'_> {
         &self,
         first_index: u64,
         items: &[T],
-        query: &(dyn Fn(&T, &mut Rng) -> Option<Query> + Sync),
+        query: &(dyn Fn(&T, Stratum, &mut Rng) -> Option<Query> + Sync),
         progress: &dyn Progress,
     ) -> Vec<RecordResult> {
         let ncols = self.mode.ncols();
@@ -178,7 +178,11 @@ impl Job<'_> {
                     if self.terms { t.with_terms() } else { t }
                 },
                 |tally, (i, item)| {
-                    let r = self.compute(first_index + i as u64, &|rng| query(item, rng), tally);
+                    let r = self.compute(
+                        first_index + i as u64,
+                        &|stratum, rng| query(item, stratum, rng),
+                        tally,
+                    );
                     progress.advance(1);
                     r
                 },
@@ -212,7 +216,7 @@ impl Job<'_> {
 pub struct Tracer {
     pub channels: Channels,
     config: Config,
-    estimator: Traced,
+    pub(crate) estimator: Traced,
     patches: Option<SkyPatches>,
     suns: Option<Vec<SunDisc>>,
     /// Where `--reweight` terms go (the estimator then tracks materials).
@@ -238,7 +242,7 @@ impl Tracer {
 
     /// As [`Tracer::new`]; `names` (the scene's inputs) go into the no-sky error and
     /// `command` into the `--reweight` file's header.
-    fn build(
+    pub(crate) fn build(
         config: &Config,
         scene: &Scene,
         names: Option<&[String]>,
@@ -271,6 +275,7 @@ impl Tracer {
             Target::Suns {
                 suns, angle_deg, ..
             } => (None, Some(sun_discs(suns, *angle_deg)?)),
+            Target::Flux(_) => (None, None),
         };
         let tracking = match &config.reweight {
             Some(r) => Some(renderable.tracking(scene, r.materials.as_deref())?),
@@ -398,7 +403,7 @@ impl Tracer {
     ) -> Result<Vec<RecordResult>> {
         let job = self.job();
         let irradiance = self.config.irradiance;
-        let query = move |r: &SensorRay, _: &mut Rng| sensor_query(r, irradiance);
+        let query = move |r: &SensorRay, _: Stratum, _: &mut Rng| sensor_query(r, irradiance);
         let pool = self.pool()?;
         Ok(pool.install(|| {
             let mut out = Vec::with_capacity(rays.len());
@@ -490,6 +495,25 @@ impl Run {
                 ));
             }
         }
+        if matches!(self.config.target, Target::Flux(_)) {
+            // -y (the sensor count, as honeybee passes it to rfluxmtx) is checked with
+            // sensors from standard input; a sender file sets the rows itself.
+            let sender_file = matches!(
+                &self.config.target,
+                Target::Flux(f) if matches!(f.sender, super::config::SenderInput::File(_))
+            );
+            let refused = [
+                (self.shard.is_some(), "--shard"),
+                (self.y.is_some() && sender_file, "-y and a sender file"),
+                (self.illuminance, "-oi"),
+                (self.se_out.is_some(), "--se-out"),
+            ];
+            if let Some((_, what)) = refused.iter().find(|(on, _)| *on) {
+                return Err(Error::Usage(format!(
+                    "{what} with --flux: not offered for sender/receiver matrices (convert afterwards with rmtx)"
+                )));
+            }
+        }
         if self.manifest.is_some() && self.shard.is_none() {
             return Err(Error::Usage(
                 "--manifest describes a shard: it needs --shard K/N (0/1 for a whole run)".into(),
@@ -511,6 +535,9 @@ impl Run {
 /// (loading, compiling, tracing) are reported to `progress`.
 pub fn main(run: &Run, progress: &dyn Progress) -> Result<()> {
     run.validate()?;
+    if let Target::Flux(flux) = &run.config.target {
+        return super::flux::main(run, flux, progress);
+    }
     // Scene first: its errors come before anything is read or written.
     let t_start = std::time::Instant::now();
     let stage = Stage::uncounted(progress, "loading the scene");
@@ -677,7 +704,7 @@ pub fn sun_discs(suns: &SunSource, angle: f64) -> Result<Vec<SunDisc>> {
 
 /// The sensor's query: `-I` moves the origin 1.1e-4 along the normal (rcontrib's
 /// `eval_irrad`); a zero direction (rtrace's flush) gives an empty record.
-fn sensor_query(ray: &SensorRay, irradiance: bool) -> Option<Query> {
+pub(crate) fn sensor_query(ray: &SensorRay, irradiance: bool) -> Option<Query> {
     if ray.is_flush() {
         return None;
     }
@@ -723,7 +750,7 @@ pub fn sensors<R: BufRead, W: Write>(
 ) -> Result<Rows> {
     let (command, format) = (&run.command, run.output);
     let irradiance = run.config.irradiance;
-    let query = move |r: &SensorRay, _: &mut Rng| sensor_query(r, irradiance);
+    let query = move |r: &SensorRay, _: Stratum, _: &mut Rng| sensor_query(r, irradiance);
     // Without -y the sensors are read first (their count goes in NROWS); with -y they
     // stream and the count is checked at the end.
     let mut pending: Vec<SensorRay> = Vec::new();
@@ -852,7 +879,7 @@ fn picture<W: Write>(
         )));
     }
     let jitter = job.ad > 1;
-    let query = move |&(px, py): &(usize, usize), rng: &mut Rng| {
+    let query = move |&(px, py): &(usize, usize), _: Stratum, rng: &mut Rng| {
         let (u, v) = if jitter {
             (rng.random::<f64>(), rng.random::<f64>())
         } else {

@@ -120,6 +120,37 @@ impl PathSink for SunSink<'_> {
     }
 }
 
+/// Where a `--flux` path's arrivals go: the receiver column of the surface or source it
+/// ends on, times `scale` (pi for a sensor's cosine-sampled path, 1 for a ray).
+struct FluxSink<'a> {
+    receivers: &'a crate::rdc::flux::Receivers,
+    tally: &'a mut Tally,
+    scale: f64,
+    buf: Buf,
+}
+
+impl PathSink for FluxSink<'_> {
+    fn escape(&mut self, _dir: Vec3, _beta: Color, _events: &Events) {}
+    fn escape_to(
+        &mut self,
+        source: Option<&crate::trace::sources::DistantSource>,
+        _no_sources: bool,
+        dir: Vec3,
+        beta: Color,
+        _events: &Events,
+    ) {
+        if let Some(col) = source.and_then(|s| self.receivers.column(s.scene_index, dir.to_array()))
+        {
+            add_color(self.tally, col, &beta, self.scale, &mut self.buf);
+        }
+    }
+    fn emitter(&mut self, scene_index: u32, dir: Vec3, beta: Color, _events: &Events) {
+        if let Some(col) = self.receivers.column(scene_index as usize, dir.to_array()) {
+            add_color(self.tally, col, &beta, self.scale, &mut self.buf);
+        }
+    }
+}
+
 impl Traced {
     /// `--suns-ab`: one path sample (a stratified cosine direction from a sensor, or the
     /// view ray) whose every surface vertex looks at every sun.
@@ -214,6 +245,39 @@ impl Estimator for Traced {
                             add_color(tally, bin, &beta, scale, &mut buf);
                         }
                     },
+                );
+                self.rays.fetch_add(rays, Ordering::Relaxed);
+            }
+            (quantity, Mode::Flux { receivers }) => {
+                // As sky coefficients: a sensor's stratified cosine sample with weight
+                // 1/-ad counting pi x throughput, or the ray itself (a sender's ray, a
+                // view ray) counting its throughput.
+                let (org, dir, from_sensor, w0, scale) = match quantity {
+                    Quantity::Irradiance => {
+                        if self.params.ab == 0 {
+                            return;
+                        }
+                        let (u, v) = stratum.unit_square(rng);
+                        let d = cosine_hemisphere(n.normalize().to_array(), u, v);
+                        let org = Vec3::from(q.org) + n.normalize() * SENSOR_OFFSET;
+                        (org, Vec3::from(d), true, self.w0, PI)
+                    }
+                    Quantity::Radiance => (Vec3::from(q.org), n.normalize(), false, 1.0, 1.0),
+                };
+                let mut sink = FluxSink {
+                    receivers,
+                    tally,
+                    scale,
+                    buf,
+                };
+                let rays = self.scene.sink_path_sample(
+                    org,
+                    dir,
+                    from_sensor,
+                    w0,
+                    &self.params,
+                    rng,
+                    &mut sink,
                 );
                 self.rays.fetch_add(rays, Ordering::Relaxed);
             }

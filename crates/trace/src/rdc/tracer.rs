@@ -112,6 +112,12 @@ pub enum Mode<'a> {
     /// Point-in-time values under the scene's own sky and suns
     /// ([`crate::trace::sources`]): one column.
     Values,
+    /// Flux transfer (`--flux`, [`crate::rdc::flux`]): every path that ends on a receiver
+    /// surface or escapes into a receiver source counts its throughput in the receiver's
+    /// bin for its direction.
+    Flux {
+        receivers: &'a crate::rdc::flux::Receivers,
+    },
 }
 
 impl Mode<'_> {
@@ -125,6 +131,7 @@ impl Mode<'_> {
             } => patches.len() * if *below_horizon { 2 } else { 1 },
             Mode::Suns { suns, .. } => suns.len(),
             Mode::Values => 1,
+            Mode::Flux { receivers } => receivers.ncols(),
         }
     }
 }

@@ -517,9 +517,10 @@ impl Renderable {
             }
             match &o.kind {
                 Primitive::Source { direction, angle } => {
-                    if let Some(s) =
+                    if let Some(mut s) =
                         distant_source(&cal, scene, i, o, *direction, *angle, ch, opts)?
                     {
+                        s.scene_index = i;
                         sources.list.push(s);
                     }
                     continue;

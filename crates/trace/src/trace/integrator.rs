@@ -163,6 +163,32 @@ enum Mode {
 pub trait PathSink {
     /// A coefficient-mode escape along `dir` with the path's throughput.
     fn escape(&mut self, dir: Vec3, beta: Color, events: &Events);
+    /// A coefficient-mode escape along `dir` that reaches the distant `source` (`None`:
+    /// none contains `dir`); `no_sources`: the scene has no distant source at all. By
+    /// default, escapes into glows (or into an empty sky) go to [`PathSink::escape`]:
+    /// rdc's sky coefficients; receivers (`rdc::flux`) look at which source it is.
+    fn escape_to(
+        &mut self,
+        source: Option<&super::sources::DistantSource>,
+        no_sources: bool,
+        dir: Vec3,
+        beta: Color,
+        events: &Events,
+    ) {
+        let counts = no_sources
+            || matches!(
+                source.map(|s| s.kind),
+                Some(super::DistantKind::Glow | super::DistantKind::DarkGlow)
+            );
+        if counts {
+            self.escape(dir, beta, events);
+        }
+    }
+    /// A coefficient-mode path that ends on an emitting surface (a `glow` on a polygon,
+    /// say): the surface's scene index and the ray's direction, with the path's
+    /// throughput. Nothing by default (rcontrib's untracked modifiers); rdc's surface
+    /// receivers count it.
+    fn emitter(&mut self, _scene_index: u32, _dir: Vec3, _beta: Color, _events: &Events) {}
     /// Number of suns (sun coefficient mode).
     fn nsuns(&self) -> usize {
         0
@@ -417,17 +443,13 @@ impl Renderable {
                         }
                     }
                     Mode::Coefficients => {
-                        let counts = if self.sources.is_empty() {
-                            true
-                        } else {
-                            matches!(
-                                self.sources.hit(ray.dir).map(|s| s.kind),
-                                Some(super::DistantKind::Glow | super::DistantKind::DarkGlow)
-                            )
-                        };
-                        if counts {
-                            sink.escape(ray.dir, st.beta, &st.events);
-                        }
+                        sink.escape_to(
+                            self.sources.hit(ray.dir),
+                            self.sources.is_empty(),
+                            ray.dir,
+                            st.beta,
+                            &st.events,
+                        );
                     }
                 }
                 return out;
@@ -449,6 +471,9 @@ impl Renderable {
                 }
             }
             if let Material::Emitter(e) = m {
+                if mode == Mode::Coefficients {
+                    sink.emitter(info.scene_index, ray.dir, st.beta, &st.events);
+                }
                 if mode == Mode::Values && (st.sees_sources || e.counts_for_indirect(h.t)) {
                     out += st.beta * e.emission(wo.to_array(), &s);
                 }
@@ -799,6 +824,43 @@ impl Renderable {
             &mut Escapes(escape),
         );
         (l, rays)
+    }
+
+    /// One coefficient path from `org` along `dir` whose escapes and emitter hits go to
+    /// `sink` ([`PathSink::escape_to`], [`PathSink::emitter`]): rdc's sender/receiver
+    /// mode. `from_sensor`: the first direction was an `-I` sensor's hemisphere sample
+    /// (diffuse bounce 1). Returns the rays cast.
+    #[allow(clippy::too_many_arguments)]
+    pub fn sink_path_sample(
+        &self,
+        org: Vec3,
+        dir: Vec3,
+        from_sensor: bool,
+        w0: f64,
+        params: &PathLimits,
+        rng: &mut impl Rng,
+        sink: &mut dyn PathSink,
+    ) -> u64 {
+        let st = PathState {
+            beta: Color::splat(self.ncomp, 1.0),
+            sees_sources: !from_sensor,
+            diffuse: u32::from(from_sensor),
+            depth: u32::from(from_sensor),
+            events: Events::default(),
+        };
+        let mut rays = 0;
+        self.walk(
+            Ray { org, dir },
+            st,
+            w0,
+            params,
+            Mode::Coefficients,
+            rng,
+            &mut rays,
+            None,
+            sink,
+        );
+        rays
     }
 
     /// One sun-coefficient path sample from a sensor (`-I`, the first sample counting as

@@ -82,6 +82,9 @@ pub struct DistantSource {
     pub color: Color,
     pub pattern: SkyPattern,
     pub kind: DistantKind,
+    /// Index of the `source` object in the scene (`Scene::objects`): which receiver an
+    /// escaping ray reached in rdc's sender/receiver mode.
+    pub scene_index: usize,
 }
 
 impl DistantSource {
@@ -102,6 +105,7 @@ impl DistantSource {
             color,
             pattern,
             kind,
+            scene_index: 0,
         }
     }
 
