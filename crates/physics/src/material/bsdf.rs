@@ -557,8 +557,11 @@ const PI_: f64 = std::f64::consts::PI;
 ///   positive thickness) pass straight through; transmitted samples start `thick` behind
 ///   the surface (opposite the normal).
 /// - Shadow rays: blocked by `BSDF` without thickness; `aBSDF` passes them with the "peak"
-///   transmission (the matrix value of the straight-through patch above its surround,
-///   times the patch's lambda; a simplification of `compute_through`).
+///   transmission (the matrix value of the straight-through patch above the mean of its
+///   ring, times the patch's lambda; a simplification of `compute_through`), and its direct
+///   evaluation of a source inside the straight-through cone uses that surround instead
+///   of the peak (`direct_specular_OK`), so the sun is not counted twice. View rays are
+///   not split into a through ray and samples as Radiance does (they sample the BSDF).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Bsdf {
     pub data: std::sync::Arc<KlemsBsdf>,
@@ -616,9 +619,19 @@ impl Bsdf {
         if l[2].abs() <= FTINY {
             return black;
         }
-        let mut b = self.data.eval(v, l);
         let hitfront = v[2] > 0.0;
         let same_side = (l[2] > 0.0) == hitfront;
+        // aBSDF: a source seen straight through is the shadow rays' (they pass the peak);
+        // here it gets only the surround, as m_bsdf.c's direct_specular_OK does.
+        let through = if self.absdf && !same_side && self.in_through_cone(v, l, omega) {
+            self.peak_and_surround(v)
+        } else {
+            None
+        };
+        let mut b = match through {
+            Some((p, s)) if p.iter().any(|&x| x > 0.0) => s,
+            _ => self.data.eval(v, l),
+        };
         let extra = if same_side {
             if hitfront {
                 self.rdiff_front
@@ -770,6 +783,13 @@ impl Bsdf {
     /// The straight-through "peak" of the transmission seen from local `v` (RGB): the
     /// through patch's value above the mean of its ring neighbours, times its lambda.
     fn peak(&self, v: [f64; 3]) -> Option<[f64; 3]> {
+        self.peak_and_surround(v).map(|(p, _)| p)
+    }
+
+    /// The peak (as [`Bsdf::peak`]) and the surround BTDF (RGB, 1/sr, Lambertian part
+    /// included: the ring mean plus the matrix minimum over pi) seen from local `v`; also
+    /// the smallest projected solid angle of the outgoing basis (`minProjSA`).
+    fn peak_and_surround(&self, v: [f64; 3]) -> Option<([f64; 3], [f64; 3])> {
         let d = &*self.data;
         let c = if v[2] > 0.0 {
             d.tf.as_ref().or(d.tb.as_ref())?
@@ -795,12 +815,41 @@ impl Bsdf {
             }
         }
         let lam = c.out.lambda(o);
+        let lamb = if v[2] > 0.0 {
+            d.t_lamb_front
+        } else {
+            d.t_lamb_back
+        };
         let mut out = [0.0; 3];
+        let mut surround = [0.0; 3];
         for ch in 0..3 {
             let s = if m > 0 { sur[ch] / m as f64 } else { 0.0 };
             out[ch] = ((val[ch] as f64 - s) * lam).max(0.0);
+            surround[ch] = s.max(0.0) + lamb[ch] / PI_;
         }
-        Some(out)
+        Some((out, surround))
+    }
+
+    /// `aBSDF`: whether a source along local `l` lies in the straight-through cone of the
+    /// view `v` (`direct_specular_OK`'s over-counting test: shadow rays already carry the
+    /// peak), `omega` the source's solid angle. The cone's size follows m_bsdf.c's rule
+    /// with the basis's smallest patch as `minProjSA`.
+    fn in_through_cone(&self, v: [f64; 3], l: [f64; 3], omega: f64) -> bool {
+        let d = &*self.data;
+        let Some(c) = (if v[2] > 0.0 {
+            d.tf.as_ref().or(d.tb.as_ref())
+        } else {
+            d.tb.as_ref().or(d.tf.as_ref())
+        }) else {
+            return false;
+        };
+        let min_psa = (0..c.out.len())
+            .map(|k| c.out.lambda(k))
+            .fold(f64::INFINITY, f64::min);
+        let tomega = omega * l[2].abs();
+        let (dx, dy) = (l[0] + v[0], l[1] + v[1]);
+        dx * dx + dy * dy
+            <= (2.5 * 4.0 / PI_) * (tomega + min_psa + 2.0 * (tomega * min_psa).sqrt())
     }
 }
 
