@@ -12,6 +12,8 @@ use clap::{CommandFactory, FromArgMatches, Parser};
 
 pub const EXAMPLES: &str = "\
 Examples:
+  The three-phase product with a BSDF file for T (as dctimestep V T D s):
+    rmtx -ff -c 47.4 119.9 11.6 view.vmx blinds.xml daylight.dmx sky.smx > ill.mtx
   Daylight coefficients times a sky matrix, to illuminance in lux (as dctimestep | rmtxop):
     gendaymtx -m 1 -of site.wea > sky.smx
     rmtx dc.mtx sky.smx -c 47.4 119.9 11.6 -fa > ill.txt
@@ -33,7 +35,7 @@ Examples:
     rmtx -ff dc.mtx sky.smx --hours $K/$N --manifest ill.$K.json > ill.$K.mtx
   The five-phase combination in one streamed pass (3-phase total, minus its direct part,
   plus the sun coefficients; products bind tighter than +):
-    rmtx -fa V.mtx T.mtx D.mtx sky.smx + -s -1 Vd.mtx T.mtx Dd.mtx skyd.smx + cds.mtx suns.smx
+    rmtx -fa V.mtx T.xml D.mtx sky.smx + -s -1 Vd.mtx T.xml Dd.mtx skyd.smx + cds.mtx suns.smx
   Which rdc shards are complete (one line each; status 1 names the others):
     rmtx --verify dc.0.mtx dc.1.mtx dc.2.mtx --manifests m0.json m1.json m2.json";
 
@@ -301,9 +303,45 @@ impl Options {
                     scale: *scale,
                 })
                 .collect(),
-            in_memory: Vec::new(),
+            in_memory: xml_operands(
+                self.inputs
+                    .iter()
+                    .chain(self.terms.iter().flat_map(|(t, _)| t.iter())),
+            )?,
         })
     }
+}
+
+/// dctimestep's `T.xml`: an input ending in `.xml` is a BSDF file (LBNL WINDOW XML, Klems
+/// data); its transmission matrix (rows: outgoing patches into the room, columns: incident
+/// patches, each BSDF value times the incident patch's projected solid angle, RGB from
+/// CIE X, Y, Z when the file has them: `material::bsdf::transmission_matrix`) is handed to
+/// the pipeline in memory, in double precision.
+fn xml_operands<'a>(inputs: impl Iterator<Item = &'a String>) -> Result<Vec<(String, Vec<u8>)>> {
+    use crate::formats::header::Header;
+    use crate::formats::matrix::{Matrix, WriteOptions};
+    let mut out: Vec<(String, Vec<u8>)> = Vec::new();
+    for p in inputs.filter(|p| p.to_ascii_lowercase().ends_with(".xml")) {
+        if out.iter().any(|(n, _)| n == p) {
+            continue;
+        }
+        let xml = crate::bsdf::load(std::path::Path::new(p))?;
+        let t = crate::material::bsdf::transmission_matrix(&xml, p)?;
+        let m = Matrix {
+            nrows: t.nrows,
+            ncols: t.ncols,
+            channels: crate::radiometry::Channels::rgb(),
+            data: t.rgb.iter().flatten().copied().collect(),
+        };
+        let bytes = m.write(
+            Vec::new(),
+            p,
+            Header::new(),
+            WriteOptions::new(DataFormat::Double),
+        )?;
+        out.push((p.clone(), bytes));
+    }
+    Ok(out)
 }
 
 fn indexed(m: &clap::ArgMatches, id: &str) -> Vec<(usize, String)> {

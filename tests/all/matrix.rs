@@ -395,6 +395,27 @@ fn rmtx_products_match_dctimestep_and_rmtxop() {
     assert_eq!(bad.status.code(), Some(1));
     assert!(bad.stdout.is_empty());
     assert!(String::from_utf8_lossy(&bad.stderr).contains("same shape"));
+    // The three-phase chain with a BSDF file for T (dctimestep V T.xml D s): V and D are
+    // made-up Klems-full matrices (sensors x 145, 145 x 146 sky patches), T the blinds'
+    // XML (tests/data/bsdf/blinds45.xml); ours reads the XML itself.
+    let klems = |nrows: usize, ncols: usize, seed: usize| {
+        let mut m = format!("#?RADIANCE\nNROWS={nrows}\nNCOLS={ncols}\nNCOMP=3\nFORMAT=ascii\n\n");
+        for i in 0..nrows {
+            for j in 0..ncols {
+                let v = ((i * 37 + j * 11 + seed) % 17) as f64 * 1e-3;
+                m.push_str(&format!("{v} {} {}\t", v * 0.9, v * 1.2));
+            }
+            m.push('\n');
+        }
+        m
+    };
+    std::fs::write(d.join("V.mtx"), klems(3, 145, 1)).unwrap();
+    std::fs::write(d.join("D.mtx"), klems(145, 146, 5)).unwrap();
+    let xml = common::repo().join("tests/data/bsdf/blinds45.xml");
+    let xml = xml.to_str().unwrap();
+    let a = real("dctimestep", &["V.mtx", xml, "D.mtx", "sky.mtx"]);
+    let b = ours(&["-fa", "V.mtx", xml, "D.mtx", "sky.mtx"]);
+    within("rmtx V T.xml D sky vs dctimestep", rel(&b, &a), 1e-5);
     // Symbolic -c Y: like rmtxop, 179 x row Y of the RGB-to-XYZ matrix of Radiance's
     // standard primaries (47.45394 119.94894 11.59712), computed in float by rmtxop.
     let y = ours(&["-fa", "-c", "Y", "dc.mtx", "sky.mtx"]);
