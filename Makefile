@@ -256,6 +256,48 @@ spectral-example: build
 	@awk -F'\t' 'NR>1 {m+=$$5; e+=$$6; r+=$$7; d+=$$13; n++} END {printf "room means over daylit hours: m-EDI %.0f lx, Ev %.0f lx, M/P %.3f; mornings with m-EDI >= 250 lx 8-12 h: %.1f %% of days (%d sensors)\n", m/n, e/n, r/n, d/n, n}' $(SPEC)/melanopic.tsv
 	@echo "Per sensor: $(SPEC)/melanopic.tsv; m-EDI per sensor and hour: $(SPEC)/medi.mtx; map: $(SPEC)/medi_days.png; year (room median): $(SPEC)/medi_year.png"
 
+# Shaded windows (issue 20): the example room with venetian blinds in its window opening
+# (examples/shading/), a year of London weather three ways:
+#   2-phase  the blinds as geometry (radiance-fixtures/shading/make.sh: genblinds), rdc -m 1
+#   3-phase  V T D s: rdc --flux as rfluxmtx for the view matrix V (sensors -> window Klems
+#            patches) and the daylight matrix D (window -> sky patches), T the blinds' BSDF
+#            (tests/data/bsdf/blinds45.xml, from the same slats by radiance-fixtures/bsdf/make.sh)
+#   5-phase  3-phase - its direct part (Vd T Dd sd, black room) + the sun coefficients Cds
+#            (rdc --suns 6 --suns-ab -ab 3: suns at the MF 6 patch centres as light sources,
+#            the black room with the blinds as geometry, slats reflecting: the sun through
+#            the real slats instead of the Klems patches; docs/three-phase.md)
+# then the metrics of each and the per-sensor difference to the 2-phase geometry run.
+SHADE    := examples/shading
+SHADE_OUT := $(OUT)/shading
+SHADE_SCENE := $(SHADE)/materials.rad $(SHADE)/geometry.rad
+SHADE_BLACK := $(SHADE)/materials_black.rad $(SHADE)/geometry.rad
+SHADE_T  := tests/data/bsdf/blinds45.xml
+SHADE_DOPTS ?= -ab 2 -ad 1000 -lw 1e-4 -c 1000 -s 1
+.PHONY: shading-example
+shading-example: build
+	@mkdir -p $(SHADE_OUT)
+	$(BIN)/rdc -I $(RDC_OPTS) -m 1 -faf $(SHADE_SCENE) $(SHADE)/blinds.rad $(ROOM)/skydome.rad < $(SENSORS) > $(SHADE_OUT)/dc2.mtx
+	$(BIN)/rdc --flux -I $(RDC_OPTS) -faf - $(SHADE)/window.rad $(SHADE_SCENE) < $(SENSORS) > $(SHADE_OUT)/V.mtx
+	$(BIN)/rdc --flux $(SHADE_DOPTS) -faf $(SHADE)/window.rad $(ROOM)/skydome.rad $(SHADE_SCENE) > $(SHADE_OUT)/D.mtx
+	$(BIN)/rdc --flux -I -ab 1 -ad 10000 -lw 1e-5 -s 1 -faf - $(SHADE)/window.rad $(SHADE_BLACK) < $(SENSORS) > $(SHADE_OUT)/Vd.mtx
+	$(BIN)/rdc --flux -ab 0 -c 1000 -s 1 -faf $(SHADE)/window.rad $(ROOM)/skydome.rad $(SHADE_BLACK) > $(SHADE_OUT)/Dd.mtx
+	$(BIN)/rdc -I --suns 6 --suns-ab -ab 3 -ad 256 -s 1 -faf $(SHADE_BLACK) $(SHADE)/blinds.rad $(ROOM)/skydome.rad < $(SENSORS) > $(SHADE_OUT)/cds.mtx
+	$(BIN)/rspecsky -m 1 -of $(EPW) > $(SHADE_OUT)/sky.smx
+	$(BIN)/rspecsky -m 1 -d -of $(EPW) > $(SHADE_OUT)/sky_d.smx
+	$(BIN)/rspecsky -m 6 -5 0.533 -d -of $(EPW) > $(SHADE_OUT)/suns.smx
+	$(BIN)/rmtx -ff -c 47.4 119.9 11.6 $(SHADE_OUT)/dc2.mtx $(SHADE_OUT)/sky.smx > $(SHADE_OUT)/ill2.mtx
+	$(BIN)/rmtx -ff -c 47.4 119.9 11.6 $(SHADE_OUT)/V.mtx $(SHADE_T) $(SHADE_OUT)/D.mtx $(SHADE_OUT)/sky.smx > $(SHADE_OUT)/ill3.mtx
+	$(BIN)/rmtx -ff -c 47.4 119.9 11.6 $(SHADE_OUT)/V.mtx $(SHADE_T) $(SHADE_OUT)/D.mtx $(SHADE_OUT)/sky.smx \
+	    + -s -1 $(SHADE_OUT)/Vd.mtx $(SHADE_T) $(SHADE_OUT)/Dd.mtx $(SHADE_OUT)/sky_d.smx \
+	    + $(SHADE_OUT)/cds.mtx $(SHADE_OUT)/suns.smx > $(SHADE_OUT)/ill5.mtx
+	@rm -f $(SHADE_OUT)/suns.smx
+	@for k in 2 3 5; do $(BIN)/rmetrics -w $(EPW) --pts $(SENSORS) -o $(SHADE_OUT)/metrics$$k.tsv $(SHADE_OUT)/ill$$k.mtx || exit 1; done
+	@for k in 2 3 5; do awk -F'\t' -v k=$$k '/^sensor/ {for (i = 1; i <= NF; i++) c[$$i] = i} /^room/ { \
+	    printf "%s-phase: TAI %6.0f klx.h   UDI-a %5.1f %%   DA %5.1f %%   sDA %5.1f %%\n", k, $$c["TAI_klxh"], $$c["UDI_a"], $$c["DA"], $$c["sDA"]}' \
+	    $(SHADE_OUT)/metrics$$k.tsv; done
+	@$(call TAI_SPREAD,$(SHADE_OUT)/metrics3.tsv,$(SHADE_OUT)/metrics2.tsv,3-phase against 2-phase)
+	@$(call TAI_SPREAD,$(SHADE_OUT)/metrics5.tsv,$(SHADE_OUT)/metrics2.tsv,5-phase against 2-phase)
+
 # rcalib on the bundled hidden-effect case (examples/calib, made by `rcalib synth`): compare
 # the model with the readings, explain the error by a missing physical effect, apply it to
 # the model, compare again and watch RMSE_rel fall. Reports in $(OUT)/calib/*.html.
