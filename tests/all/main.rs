@@ -55,6 +55,7 @@ mod scene;
 mod scene_mesh;
 mod seed_medi;
 mod sensors;
+mod shading;
 mod sky;
 mod slurm;
 mod spectral_genssky;
