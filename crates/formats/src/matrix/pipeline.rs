@@ -233,19 +233,7 @@ impl Pipeline {
         let first_ch = o.readers[0].info().channels;
         let ncomp = o.readers[0].ncomp();
         let ncols = o.in_ncols();
-        let transform = if self.coefs.is_empty() {
-            None
-        } else {
-            // Symbolic words on spectral data need the bands: the first input's header.
-            let ch = Channels { ncomp, ..first_ch };
-            Some(ChannelTransform::parse_for(&self.coefs, &ch, "result")?)
-        };
-        let out_ncomp = transform.as_ref().map_or(ncomp, |t| t.nout);
-        let factors = if self.scale.is_empty() {
-            None
-        } else {
-            Some(scale_factors(&self.scale, out_ncomp)?)
-        };
+        let (transform, out_ncomp, factors) = self.result_ops(ncomp, first_ch)?;
         let chain = std::mem::take(&mut o.chain);
         let mut ops = RowOps::new(ncomp, chain, transform, factors);
         let channels = Channels {
@@ -358,6 +346,30 @@ impl Pipeline {
         Ok(o)
     }
 
+    /// The result's channel transform (`-c`), its component count and the scale factors
+    /// (`-s`), for `ncomp` components of the first input's `channels` (symbolic words on
+    /// spectral data need its bands).
+    #[allow(clippy::type_complexity)]
+    fn result_ops(
+        &self,
+        ncomp: usize,
+        channels: Channels,
+    ) -> Result<(Option<ChannelTransform>, usize, Option<Vec<f64>>)> {
+        let transform = if self.coefs.is_empty() {
+            None
+        } else {
+            let ch = Channels { ncomp, ..channels };
+            Some(ChannelTransform::parse_for(&self.coefs, &ch, "result")?)
+        };
+        let out_ncomp = transform.as_ref().map_or(ncomp, |t| t.nout);
+        let factors = if self.scale.is_empty() {
+            None
+        } else {
+            Some(scale_factors(&self.scale, out_ncomp)?)
+        };
+        Ok((transform, out_ncomp, factors))
+    }
+
     /// An input's reader: from [`Pipeline::in_memory`] when it is there, else the file.
     fn reader(&self, p: &str) -> Result<MatrixReader<Box<dyn BufRead>>> {
         open_reader(p, &self.read, &self.in_memory)
@@ -431,18 +443,7 @@ impl Pipeline {
             }
         }
         let first_ch = opened[0].readers[0].info().channels;
-        let transform = if self.coefs.is_empty() {
-            None
-        } else {
-            let ch = Channels { ncomp, ..first_ch };
-            Some(ChannelTransform::parse_for(&self.coefs, &ch, "result")?)
-        };
-        let out_ncomp = transform.as_ref().map_or(ncomp, |t| t.nout);
-        let factors = if self.scale.is_empty() {
-            None
-        } else {
-            Some(scale_factors(&self.scale, out_ncomp)?)
-        };
+        let (transform, out_ncomp, factors) = self.result_ops(ncomp, first_ch)?;
         let mut last = RowOps::new(ncomp, Vec::new(), transform, factors);
         let channels = Channels {
             ncomp: out_ncomp,

@@ -65,6 +65,16 @@ use std::f64::consts::PI;
 /// Radiance's sensor offsets: shading point `org + 1e-4 dir` (`eval_irrad`).
 pub const SENSOR_OFFSET: f64 = 1e-4;
 
+/// Where a sink path starts: origin, first direction, whether it is an `-I` sensor's
+/// hemisphere sample, and its initial weight (Radiance's ray weight, for `-lw`).
+#[derive(Debug, Clone, Copy)]
+struct PathStart {
+    org: Vec3,
+    dir: Vec3,
+    from_sensor: bool,
+    w0: f64,
+}
+
 /// Path limits (Radiance's `-ab`, `-lw`, `-lr`, `-av`) as the integrator applies them; the
 /// driver derives them from `rdc::Sampling`.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -841,26 +851,13 @@ impl Renderable {
         rng: &mut impl Rng,
         sink: &mut dyn PathSink,
     ) -> u64 {
-        let st = PathState {
-            beta: Color::splat(self.ncomp, 1.0),
-            sees_sources: !from_sensor,
-            diffuse: u32::from(from_sensor),
-            depth: u32::from(from_sensor),
-            events: Events::default(),
-        };
-        let mut rays = 0;
-        self.walk(
-            Ray { org, dir },
-            st,
+        let start = PathStart {
+            org,
+            dir,
+            from_sensor,
             w0,
-            params,
-            Mode::Coefficients,
-            rng,
-            &mut rays,
-            None,
-            sink,
-        );
-        rays
+        };
+        self.sink_walk(start, params, Mode::Coefficients, rng, None, sink)
     }
 
     /// One sun-coefficient path sample from a sensor (`-I`, the first sample counting as
@@ -881,20 +878,43 @@ impl Renderable {
         track: Option<&Tracking>,
         sink: &mut dyn PathSink,
     ) -> u64 {
+        let start = PathStart {
+            org,
+            dir,
+            from_sensor,
+            w0,
+        };
+        self.sink_walk(start, params, Mode::Suns, rng, track, sink)
+    }
+
+    /// One path into `sink` from `start` (an `-I` sensor's first sample counting as
+    /// diffuse bounce 1, so it no longer sees sources directly). Returns the rays cast.
+    fn sink_walk(
+        &self,
+        start: PathStart,
+        params: &PathLimits,
+        mode: Mode,
+        rng: &mut impl Rng,
+        track: Option<&Tracking>,
+        sink: &mut dyn PathSink,
+    ) -> u64 {
         let st = PathState {
             beta: Color::splat(self.ncomp, 1.0),
-            sees_sources: !from_sensor,
-            diffuse: u32::from(from_sensor),
-            depth: u32::from(from_sensor),
+            sees_sources: !start.from_sensor,
+            diffuse: u32::from(start.from_sensor),
+            depth: u32::from(start.from_sensor),
             events: Events::default(),
         };
         let mut rays = 0;
         self.walk(
-            Ray { org, dir },
+            Ray {
+                org: start.org,
+                dir: start.dir,
+            },
             st,
-            w0,
+            start.w0,
             params,
-            Mode::Suns,
+            mode,
             rng,
             &mut rays,
             track,
