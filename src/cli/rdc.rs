@@ -103,6 +103,31 @@ pub struct Options {
     #[arg(value_parser = super::finite, long = "dj", value_name = "F")]
     pub dj: Option<f64>,
 
+    /// Ambient accuracy (rcontrib -aa): accepted and ignored, as rcontrib and rfluxmtx
+    /// override it with 0 (rcmain.c): rdc never caches irradiance (pure Monte Carlo, the
+    /// `-aa 0` result also for -I values). Scripts that pass it (honeybee: `-aa 0.0`) run
+    /// unchanged.
+    #[arg(value_parser = super::finite, long = "aa", value_name = "F")]
+    pub aa: Option<f64>,
+
+    /// Ambient resolution (rcontrib -ar): accepted and ignored (no irradiance cache).
+    #[arg(long = "ar", value_name = "N", value_parser = super::at_most::<1_000_000>)]
+    pub ar: Option<usize>,
+
+    /// Ambient super-samples (rcontrib -as): accepted and ignored, as rcontrib forces 0.
+    #[arg(long = "as", value_name = "N", value_parser = super::at_most::<1_000_000>)]
+    pub ambient_super: Option<usize>,
+
+    /// Direct threshold (rcontrib -dt): accepted and ignored, as rcontrib forces 0 (every
+    /// distant source is tested).
+    #[arg(value_parser = super::finite, long = "dt", value_name = "F")]
+    pub dt: Option<f64>,
+
+    /// Direct certainty (rcontrib -dc): accepted and ignored (every distant source is
+    /// tested with one shadow ray).
+    #[arg(value_parser = super::finite, long = "dc", value_name = "F")]
+    pub dc: Option<f64>,
+
     /// Specular threshold (rcontrib -st; default 0.02): rough specular lobes whose
     /// coefficient is at or below F are folded into the diffuse sample, as Radiance's
     /// normal.c does.
@@ -368,7 +393,10 @@ pub fn radiance_args<S: AsRef<str>>(args: &[S]) -> Vec<String> {
     });
     super::long_spellings(
         flags,
-        &["ab", "ad", "lw", "lr", "dj", "st", "ss", "cs", "cw", "oi"],
+        &[
+            "ab", "ad", "lw", "lr", "dj", "st", "ss", "cs", "cw", "oi", "aa", "ar", "as", "dt",
+            "dc",
+        ],
     )
 }
 

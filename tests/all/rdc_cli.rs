@@ -182,6 +182,16 @@ fn same_seed_same_bytes_whatever_the_threads() {
     let mut d = args("2", "7");
     d.push("--direct");
     assert!(rdc(&d, &pts) == a, "--direct differs on an open sky");
+    // rcontrib's ambient-cache and direct-culling options, which rcontrib overrides and
+    // rfluxmtx scripts pass (honeybee: -aa 0.0), are accepted and change nothing.
+    let mut hb = args("2", "7");
+    hb.extend([
+        "-aa", "0.0", "-ar", "256", "-as", "128", "-dt", "0.5", "-dc", "1.0",
+    ]);
+    assert!(
+        rdc(&hb, &pts) == a,
+        "-aa/-ar/-as/-dt/-dc changed the output"
+    );
     let mut z = args("2", "7");
     z.extend(["-ab", "0"]);
     assert!(
