@@ -357,7 +357,7 @@ pub struct KlemsBsdf {
     /// `<Thickness>` in metres, if the file gives it.
     pub thickness: Option<f64>,
     /// Tensor-tree data, when the file holds trees instead of Klems matrices (then the
-    /// Klems components are all `None` and the Lambertian parts zero).
+    /// Klems components are all `None`).
     tree: Option<super::ttree::TreeBsdf>,
 }
 
@@ -376,9 +376,14 @@ impl KlemsBsdf {
                 .iter()
                 .any(|c| matches!(c.data, ScatteringData::Klems(_)))
         }) {
-            // Tensor-tree data (bsdf2ttree, genBSDF -t3/-t4): the tree holds everything,
-            // no Lambertian split (see super::ttree).
-            out.tree = Some(super::ttree::TreeBsdf::from_xml(xml, file)?);
+            // Tensor-tree data (bsdf2ttree, genBSDF -t3/-t4): trees less their minima,
+            // which become the Lambertian parts as for Klems (see super::ttree).
+            let t = super::ttree::TreeBsdf::from_xml(xml, file)?;
+            out.r_lamb_front = [t.lamb[0]; 3];
+            out.r_lamb_back = [t.lamb[1]; 3];
+            out.t_lamb_front = [t.lamb[2]; 3];
+            out.t_lamb_back = [t.lamb[3]; 3];
+            out.tree = Some(t);
             return Ok(out);
         }
         // WINDOW's names -> Radiance's components (front and back swap, bsdf_m.c).
@@ -585,8 +590,10 @@ const PI_: f64 = std::f64::consts::PI;
 ///   Radiance's back: the normal should face the room.
 /// - The view direction plays the incident one for both evaluation and sampling (reverse
 ///   tracing and reciprocity, as Radiance).
-/// - Scattering = the Klems matrix (piecewise constant over patches) plus Lambertian parts
-///   (the matrix minimum, and the extra diffuse arguments, which add). Sampling picks
+/// - Scattering = the Klems matrix (piecewise constant over patches) or the tensor trees
+///   ([`super::ttree`], sampled from a per-incident-cell table over the outgoing square)
+///   plus Lambertian parts (the matrix or tree minimum, and the extra diffuse arguments,
+///   which add). Sampling picks
 ///   reflection or transmission in proportion to their hemispherical totals, then an
 ///   outgoing patch in proportion to `BSDF x lambda` and a cosine-weighted direction in it.
 ///   Lambertian parts are diffuse (ambient) samples that count toward `-ab`; matrix samples
@@ -600,7 +607,9 @@ const PI_: f64 = std::f64::consts::PI;
 ///   transmission (the matrix value of the straight-through patch above the mean of its
 ///   ring, times the patch's lambda; a simplification of `compute_through`), and its direct
 ///   evaluation of a source inside the straight-through cone uses that surround instead
-///   of the peak (`direct_specular_OK`), so the sun is not counted twice. View rays are
+///   of the peak (`direct_specular_OK`), so the sun is not counted twice. With tensor-tree
+///   data there is no peak yet: `aBSDF` blocks shadow rays (the sun reaches through
+///   samples only). View rays are
 ///   not split into a through ray and samples as Radiance does (they sample the BSDF).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Bsdf {
