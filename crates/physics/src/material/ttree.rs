@@ -643,4 +643,47 @@ mod tests {
             }
         }
     }
+
+    /// With only the back-incident transmission tree, front transmission is sampled by
+    /// reciprocity (a table over the tree's incident coordinate, not aligned with a rank-3
+    /// tree's cells): weights then vary, but their mean over a region still equals the
+    /// quadrature of `eval x cos` there, which uses the same tree reciprocally.
+    #[test]
+    fn reciprocal_transmission_sampling_is_unbiased() {
+        let mut t = lobe_tt();
+        t.tf = None;
+        let mut seed = 0x9e37_79b9_7f4a_7c15u64;
+        let mut rnd = move || {
+            seed ^= seed >> 12;
+            seed ^= seed << 25;
+            seed ^= seed >> 27;
+            (seed.wrapping_mul(0x2545_f491_4f6c_dd1d) >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for v in [[0.0f64, 0.0, 1.0], [0.3, -0.4, 0.866]] {
+            let n = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+            let v = [v[0] / n, v[1] / n, v[2] / n];
+            let total = t.hemispherical(v).1;
+            let q = integrate(&t, v, -1.0, |_| true);
+            assert!(
+                (total - q).abs() < 0.02 * q,
+                "{v:?}: table {total} quadrature {q}"
+            );
+            let m = 20_000;
+            let (mut s1, mut s2) = (0.0, 0.0);
+            for _ in 0..m {
+                let (w, d) = t.sample(v, true, rnd(), rnd(), rnd()).unwrap();
+                assert!(d[2] < 0.0, "transmitted sample on the front");
+                let x = if d[0] > 0.0 { w } else { 0.0 };
+                s1 += x;
+                s2 += x * x;
+            }
+            let mean = s1 / m as f64;
+            let se = ((s2 / m as f64 - mean * mean).max(0.0) / m as f64).sqrt();
+            let want = integrate(&t, v, -1.0, |d| d[0] > 0.0);
+            assert!(
+                (mean - want).abs() < 5.0 * se + 0.01 * total,
+                "{v:?}: sampled {mean} (se {se}) quadrature {want}"
+            );
+        }
+    }
 }
