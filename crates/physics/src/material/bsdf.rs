@@ -356,6 +356,9 @@ pub struct KlemsBsdf {
     t_lamb_back: [f64; 3],
     /// `<Thickness>` in metres, if the file gives it.
     pub thickness: Option<f64>,
+    /// Tensor-tree data, when the file holds trees instead of Klems matrices (then the
+    /// Klems components are all `None`).
+    tree: Option<super::ttree::TreeBsdf>,
 }
 
 const FTINY: f64 = 1e-6;
@@ -373,10 +376,15 @@ impl KlemsBsdf {
                 .iter()
                 .any(|c| matches!(c.data, ScatteringData::Klems(_)))
         }) {
-            return Err(Error::Unsupported {
-                loc: Location::file(file),
-                what: "BSDF data other than Klems matrices (tensor trees: only their parser and lookup exist so far)".into(),
-            });
+            // Tensor-tree data (bsdf2ttree, genBSDF -t3/-t4): trees less their minima,
+            // which become the Lambertian parts as for Klems (see super::ttree).
+            let t = super::ttree::TreeBsdf::from_xml(xml, file)?;
+            out.r_lamb_front = [t.lamb[0]; 3];
+            out.r_lamb_back = [t.lamb[1]; 3];
+            out.t_lamb_front = [t.lamb[2]; 3];
+            out.t_lamb_back = [t.lamb[3]; 3];
+            out.tree = Some(t);
+            return Ok(out);
         }
         // WINDOW's names -> Radiance's components (front and back swap, bsdf_m.c).
         for (dir, inc, outl) in [
@@ -492,6 +500,13 @@ impl KlemsBsdf {
             (false, true) => (self.t_lamb_back, self.tb.as_ref().or(self.tf.as_ref())),
         };
         let mut out = [lamb[0] / PI_, lamb[1] / PI_, lamb[2] / PI_];
+        if let Some(t) = &self.tree {
+            // The view direction plays the incident one (reciprocity, as for Klems).
+            let y = t.eval(v, l);
+            for o in &mut out {
+                *o += y;
+            }
+        }
         if let Some(c) = comp.and_then(|c| c.eval(v, l)) {
             for k in 0..3 {
                 out[k] += c[k] as f64;
@@ -504,29 +519,59 @@ impl KlemsBsdf {
     /// local `v` (pointing away from the surface): the Lambertian parts plus the row total.
     pub fn hemispherical(&self, v: [f64; 3]) -> (f64, f64) {
         let front = v[2] > 0.0;
-        let (rl, tl, rc, tc) = if front {
-            (
-                self.r_lamb_front,
-                self.t_lamb_front,
-                self.rf.as_ref(),
-                self.tf.as_ref().or(self.tb.as_ref()),
-            )
+        let (rl, tl) = if front {
+            (self.r_lamb_front, self.t_lamb_front)
         } else {
-            (
-                self.r_lamb_back,
-                self.t_lamb_back,
-                self.rb.as_ref(),
-                self.tb.as_ref().or(self.tf.as_ref()),
-            )
+            (self.r_lamb_back, self.t_lamb_back)
         };
+        let (tr, tt) = self.lobe_totals(v);
+        (
+            crate::radiometry::photopic(rl) + tr,
+            crate::radiometry::photopic(tl) + tt,
+        )
+    }
+
+    /// Hemispherical totals (photopic) of the directional parts (Klems matrices less their
+    /// Lambertian minima, or the tensor trees) for view `v`: reflection, transmission.
+    fn lobe_totals(&self, v: [f64; 3]) -> (f64, f64) {
+        if let Some(t) = &self.tree {
+            return t.hemispherical(v);
+        }
+        let (rc, tc) = self.klems_lobes(v);
         let tot = |c: Option<&KlemsComp>| {
             c.and_then(|c| c.sample(v, 0.5, 0.5, 0.5))
                 .map_or(0.0, |s| s.0)
         };
-        (
-            crate::radiometry::photopic(rl) + tot(rc),
-            crate::radiometry::photopic(tl) + tot(tc),
-        )
+        (tot(rc), tot(tc))
+    }
+
+    /// The Klems components serving reflection and transmission for view `v`.
+    fn klems_lobes(&self, v: [f64; 3]) -> (Option<&KlemsComp>, Option<&KlemsComp>) {
+        if v[2] > 0.0 {
+            (self.rf.as_ref(), self.tf.as_ref().or(self.tb.as_ref()))
+        } else {
+            (self.rb.as_ref(), self.tb.as_ref().or(self.tf.as_ref()))
+        }
+    }
+
+    /// A direction of the directional part of a lobe for view `v` (local), with its weight
+    /// `BSDF x cos / pdf` (RGB): the Klems matrix or the tensor tree.
+    fn sample_lobe(
+        &self,
+        v: [f64; 3],
+        transmit: bool,
+        u: f64,
+        u2: f64,
+        u3: f64,
+    ) -> Option<([f64; 3], [f64; 3])> {
+        if let Some(t) = &self.tree {
+            let (w, d) = t.sample(v, transmit, u, u2, u3)?;
+            return Some((d, [w; 3]));
+        }
+        let (rc, tc) = self.klems_lobes(v);
+        let c = if transmit { tc? } else { rc? };
+        let (_, l, rgb) = c.sample(v, u, u2, u3)?;
+        Some((l, [rgb[0] as f64, rgb[1] as f64, rgb[2] as f64]))
     }
 }
 
@@ -545,8 +590,10 @@ const PI_: f64 = std::f64::consts::PI;
 ///   Radiance's back: the normal should face the room.
 /// - The view direction plays the incident one for both evaluation and sampling (reverse
 ///   tracing and reciprocity, as Radiance).
-/// - Scattering = the Klems matrix (piecewise constant over patches) plus Lambertian parts
-///   (the matrix minimum, and the extra diffuse arguments, which add). Sampling picks
+/// - Scattering = the Klems matrix (piecewise constant over patches) or the tensor trees
+///   ([`super::ttree`], sampled from a per-incident-cell table over the outgoing square)
+///   plus Lambertian parts (the matrix or tree minimum, and the extra diffuse arguments,
+///   which add). Sampling picks
 ///   reflection or transmission in proportion to their hemispherical totals, then an
 ///   outgoing patch in proportion to `BSDF x lambda` and a cosine-weighted direction in it.
 ///   Lambertian parts are diffuse (ambient) samples that count toward `-ab`; matrix samples
@@ -560,7 +607,9 @@ const PI_: f64 = std::f64::consts::PI;
 ///   transmission (the matrix value of the straight-through patch above the mean of its
 ///   ring, times the patch's lambda; a simplification of `compute_through`), and its direct
 ///   evaluation of a source inside the straight-through cone uses that surround instead
-///   of the peak (`direct_specular_OK`), so the sun is not counted twice. View rays are
+///   of the peak (`direct_specular_OK`), so the sun is not counted twice. With tensor-tree
+///   data there is no peak yet: `aBSDF` blocks shadow rays (the sun reaches through
+///   samples only). View rays are
 ///   not split into a through ray and samples as Radiance does (they sample the BSDF).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Bsdf {
@@ -662,31 +711,14 @@ impl Bsdf {
         let v = f.to_local(wo);
         let hitfront = v[2] > 0.0;
         let d = &*self.data;
-        let (rc, tc, rl, tl, rx) = if hitfront {
-            (
-                d.rf.as_ref(),
-                d.tf.as_ref().or(d.tb.as_ref()),
-                d.r_lamb_front,
-                d.t_lamb_front,
-                self.rdiff_front,
-            )
+        let (rl, tl, rx) = if hitfront {
+            (d.r_lamb_front, d.t_lamb_front, self.rdiff_front)
         } else {
-            (
-                d.rb.as_ref(),
-                d.tb.as_ref().or(d.tf.as_ref()),
-                d.r_lamb_back,
-                d.t_lamb_back,
-                self.rdiff_back,
-            )
+            (d.r_lamb_back, d.t_lamb_back, self.rdiff_back)
         };
         let lum = crate::radiometry::photopic;
-        // Hemispherical totals of the four lobes for this view direction.
-        let rs = rc
-            .and_then(|c| c.sample(v, 0.5, 0.5, 0.5))
-            .map_or(0.0, |x| x.0);
-        let ts = tc
-            .and_then(|c| c.sample(v, 0.5, 0.5, 0.5))
-            .map_or(0.0, |x| x.0);
+        // Hemispherical totals of the directional parts for this view direction.
+        let (rs, ts) = d.lobe_totals(v);
         // Below -st the matrix part is folded into the diffuse lobe (specthresh).
         let (rs_spec, rs_fold) = if rs <= self.st + FTINY {
             (0.0, rs)
@@ -734,18 +766,13 @@ impl Bsdf {
         };
         let (dir, rgb, kind) = match lobe {
             0 | 1 => {
-                let c = if lobe == 0 { rc? } else { tc? };
-                let (_, l, rgb) = c.sample(v, u, u2, u3)?;
+                let (l, rgb) = d.sample_lobe(v, lobe == 1, u, u2, u3)?;
                 let kind = if lobe == 0 {
                     SampleKind::SpecularReflect
                 } else {
                     SampleKind::SpecularTransmit
                 };
-                (
-                    f.to_world(l),
-                    [rgb[0] as f64, rgb[1] as f64, rgb[2] as f64],
-                    kind,
-                )
+                (f.to_world(l), rgb, kind)
             }
             2 => (
                 super::sampling::cosine_hemisphere(nside(hitfront), u2, u3),
