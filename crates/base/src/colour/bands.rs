@@ -103,8 +103,7 @@ pub fn band_xyz(v: &[f64], ch: &Channels) -> [f64; 3] {
 /// CIE XYZ to Radiance RGB (standard primaries), negative channels clipped towards the grey
 /// of equal luminance as `clipgamut(.., CGAMUT_LOWER, black, white)` does.
 pub fn xyz_to_rgb_clipped(xyz: [f64; 3]) -> [f64; 3] {
-    let m = rgb_to_xyz(&STD_PRIMARIES);
-    let inv = inv3(m);
+    let inv = xyz_to_std_rgb();
     let mut rgb: [f64; 3] =
         std::array::from_fn(|r| (0..3).map(|c| inv[r][c] * xyz[c]).sum::<f64>());
     let y = xyz[1];

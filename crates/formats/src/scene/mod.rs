@@ -43,7 +43,7 @@ pub mod specdata;
 mod write;
 mod wrong_kind;
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 pub use bbox::BBox;
 pub use otype::{Class, Count, OType};
@@ -337,4 +337,23 @@ impl Iterator for ModifierChain<'_> {
             .and_then(|o| o.modifier.filter(|&m| m < cur));
         Some(cur)
     }
+}
+
+/// Radiance's search for a file a scene names (patterns' data, pictures, BSDF XML, meshes,
+/// octrees): the scene file's folder, the working folder, then
+/// the `RAYPATH` folders.
+pub fn find_file(file: &str, scene_file: &str) -> Option<PathBuf> {
+    let p = Path::new(file);
+    if p.is_absolute() {
+        return p.is_file().then(|| p.to_path_buf());
+    }
+    let mut c = Vec::new();
+    if let Some(d) = Path::new(scene_file).parent() {
+        c.push(d.join(file));
+    }
+    c.push(p.to_path_buf());
+    if let Some(rp) = std::env::var_os("RAYPATH") {
+        c.extend(std::env::split_paths(&rp).map(|d| d.join(file)));
+    }
+    c.into_iter().find(|x| x.is_file())
 }

@@ -125,7 +125,7 @@ pub struct Loader {
 }
 
 fn find(file: &str, o: &Object, what: &str) -> Result<PathBuf> {
-    crate::sky::specpict::find_file(file, &o.loc.file).ok_or_else(|| {
+    crate::scene::find_file(file, &o.loc.file).ok_or_else(|| {
         Error::parse(
             o.loc.clone(),
             format!(

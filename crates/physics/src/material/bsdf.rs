@@ -23,11 +23,8 @@
 //! converted to Radiance RGB (standard primaries, equal-energy white), as `cm_bsdf`'s
 //! `ccy2rgb` does.
 
-use nalgebra::Matrix3;
-
 use crate::error::{Error, Location, Result};
 use crate::geometry::klems::KlemsBasis;
-use crate::radiometry::{STD_PRIMARIES, rgb_to_xyz};
 use rdaylight_formats::bsdf::{
     BsdfXml, Channel, Component, Direction, KlemsMatrix, Layer, ScatteringData,
 };
@@ -79,22 +76,6 @@ pub fn klems_block<'a>(
     })
 }
 
-/// Radiance RGB from CIE XYZ (standard primaries): the inverse of [`rgb_to_xyz`].
-pub fn xyz_to_rgb_matrix() -> [[f64; 3]; 3] {
-    let m = rgb_to_xyz(&STD_PRIMARIES);
-    let mm = Matrix3::from_fn(|r, c| m[r][c]);
-    let inv = mm
-        .try_inverse()
-        .expect("Radiance's standard primaries are independent");
-    let mut out = [[0.0; 3]; 3];
-    for (r, row) in out.iter_mut().enumerate() {
-        for (c, v) in row.iter_mut().enumerate() {
-            *v = inv[(r, c)];
-        }
-    }
-    out
-}
-
 /// Per-element colour of a Klems direction: grey from `Visible`, or RGB when CIE-X and
 /// CIE-Z blocks of the same shape exist. `None` when there is no `Visible` block.
 fn klems_colour(
@@ -107,7 +88,7 @@ fn klems_colour(
     let same = |m: &KlemsMatrix| m.n_in == y.n_in && m.n_out == y.n_out;
     let rgb = match (x, z) {
         (Some(x), Some(z)) if same(x) && same(z) => {
-            let m = xyz_to_rgb_matrix();
+            let m = crate::colour::bands::xyz_to_std_rgb();
             (0..y.values.len())
                 .map(|i| {
                     let v = [
@@ -945,7 +926,7 @@ pub fn build_material(
             reals.len()
         )));
     }
-    let path = crate::sky::specpict::find_file(file, scene_file).ok_or_else(|| {
+    let path = rdaylight_formats::scene::find_file(file, scene_file).ok_or_else(|| {
         bad(format!("BSDF file '{file}' not found (looked beside the scene file, in the working folder and on RAYPATH)"))
     })?;
     let name = path.display().to_string();
@@ -974,11 +955,12 @@ pub fn build_material(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::radiometry::{STD_PRIMARIES, rgb_to_xyz};
 
     #[test]
     fn xyz_to_rgb_inverts_rgb_to_xyz() {
         let a = rgb_to_xyz(&STD_PRIMARIES);
-        let b = xyz_to_rgb_matrix();
+        let b = crate::colour::bands::xyz_to_std_rgb();
         // b a = identity, element by element.
         for (r, c) in (0..3).flat_map(|r| (0..3).map(move |c| (r, c))) {
             let v: f64 = (0..3).map(|k| b[r][k] * a[k][c]).sum();
@@ -1069,7 +1051,7 @@ mod tests {
         );
         let c = rdaylight_formats::bsdf::parse(&doc(xyz), "c.xml").unwrap();
         let t = transmission_matrix(&c, "c.xml").unwrap();
-        let m = xyz_to_rgb_matrix();
+        let m = crate::colour::bands::xyz_to_std_rgb();
         let rgb = t.get(0, 0);
         for k in 0..3 {
             let want = (m[k][0] * 0.5 + m[k][1] + m[k][2] * 0.25).max(0.0) * lam0;

@@ -28,7 +28,7 @@ use crate::formats::picture::Picture;
 use crate::material::Color;
 use crate::material::spectrum::Sampled;
 use crate::radiometry::Channels;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 /// genssky's coordinate expressions, as it writes them.
 pub const GENSSKY_X: &str = "Atan2(Dy,Dx)/PI+1";
@@ -45,24 +45,6 @@ pub struct SpecPictSky {
     /// Extent of the x and y axes (`aspect` and 1 for a wide picture).
     x_siz: f64,
     y_siz: f64,
-}
-
-/// Radiance's search for a data file: the scene file's folder, the working folder, then
-/// the `RAYPATH` folders.
-pub fn find_file(file: &str, scene_file: &str) -> Option<PathBuf> {
-    let p = Path::new(file);
-    if p.is_absolute() {
-        return p.is_file().then(|| p.to_path_buf());
-    }
-    let mut c = Vec::new();
-    if let Some(d) = Path::new(scene_file).parent() {
-        c.push(d.join(file));
-    }
-    c.push(p.to_path_buf());
-    if let Some(rp) = std::env::var_os("RAYPATH") {
-        c.extend(std::env::split_paths(&rp).map(|d| d.join(file)));
-    }
-    c.into_iter().find(|x| x.is_file())
 }
 
 impl SpecPictSky {

@@ -275,7 +275,8 @@ fn sky_pattern(
 
 /// genssky's `specpict` sky (see [`crate::sky::specpict`]): only its own mapping.
 fn specpict(po: &Object, strings: &[String], reals: &[f64], ch: &Channels) -> Result<SkyPattern> {
-    use crate::sky::specpict::{GENSSKY_X, GENSSKY_Y, SpecPictSky, find_file};
+    use crate::scene::find_file;
+    use crate::sky::specpict::{GENSSKY_X, GENSSKY_Y, SpecPictSky};
     let clean = |s: &str| -> String {
         s.trim_matches(|c| c == '\'' || c == '"')
             .chars()

@@ -37,11 +37,11 @@ use std::sync::Arc;
 
 use crate::calc::xf::Xf;
 use crate::error::{Error, Location, Result};
+use crate::scene::find_file;
 use crate::scene::mesh::{MeshFile, read_mesh};
 use crate::scene::obj::{ObjFile, read_obj};
 use crate::scene::octree::{OctreeScene, read_octree};
 use crate::scene::{LoadOptions, Object, Primitive, Scene};
-use crate::sky::specpict::find_file;
 
 /// How deep instances may nest (an octree instancing itself would never end).
 const MAX_DEPTH: usize = 8;
