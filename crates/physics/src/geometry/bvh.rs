@@ -178,16 +178,30 @@ impl Bvh {
     /// Distance to primitive `p` along the local ray (`org` relative to `centre`).
     #[inline(always)]
     fn prim_hit(&self, p: &Prim, org: Vec3, dir: Vec3, tmin: f64, tmax: f64) -> Option<f64> {
+        self.prim_hit_inner(p, org, dir, tmin, tmax).map(|(t, _)| t)
+    }
+
+    /// [`Bvh::prim_hit`], with the shared BVH's own hit (object and local normal) when `p`
+    /// is placed, so the closest hit need not be searched for a second time.
+    #[inline(always)]
+    fn prim_hit_inner(
+        &self,
+        p: &Prim,
+        org: Vec3,
+        dir: Vec3,
+        tmin: f64,
+        tmax: f64,
+    ) -> Option<(f64, Option<Hit>)> {
         match &p.geom {
-            PrimGeom::Tri(t) => t.intersect(org, dir, tmin, tmax),
-            PrimGeom::Analytic(a) => a.intersect(org, dir, tmin, tmax),
+            PrimGeom::Tri(t) => t.intersect(org, dir, tmin, tmax).map(|t| (t, None)),
+            PrimGeom::Analytic(a) => a.intersect(org, dir, tmin, tmax).map(|t| (t, None)),
             PrimGeom::Placed(k) => {
                 let pl = &self.placed[*k as usize];
                 let r = pl.local_ray(org + self.centre, dir);
                 pl.bvh
                     .intersect(&r, tmin / pl.sca, tmax / pl.sca)
-                    .map(|h| h.t * pl.sca)
-                    .filter(|&t| t > tmin && t < tmax)
+                    .map(|h| (h.t * pl.sca, Some(h)))
+                    .filter(|&(t, _)| t > tmin && t < tmax)
             }
         }
     }
@@ -427,14 +441,16 @@ impl Bvh {
         let bray = self.bvh_ray(org, dir, s, exit);
         let mut best_t = tmax;
         let mut best = usize::MAX;
+        let mut best_inner = None;
         let pad = self.pad as f32;
         let mut rh = RayHit::none();
         cw.ray_traverse(bray, &mut rh, |_, id| {
             // SAFETY-free: `id` indexes primitive_indices, which has prims.len() entries.
-            match self.prim_hit(&self.prims[id], org, dir, tmin, best_t) {
-                Some(t) => {
+            match self.prim_hit_inner(&self.prims[id], org, dir, tmin, best_t) {
+                Some((t, inner)) => {
                     best_t = t;
                     best = id;
+                    best_inner = inner;
                     // Culling distance for obvhs: never below the true hit.
                     ((t - s) as f32) * (1.0 + 1e-6) + pad
                 }
@@ -444,10 +460,12 @@ impl Bvh {
         if best == usize::MAX {
             return None;
         }
-        Some(self.make_hit(ray, best, best_t, tmin))
+        Some(self.make_hit(ray, best, best_t, best_inner))
     }
 
-    fn make_hit(&self, ray: &Ray, prim: usize, t: f64, tmin: f64) -> Hit {
+    /// The hit on primitive `prim` at `t`; `inner` is the shared BVH's own hit when the
+    /// primitive is placed.
+    fn make_hit(&self, ray: &Ray, prim: usize, t: f64, inner: Option<Hit>) -> Hit {
         let p = &self.prims[prim];
         let (normal, object) = match &p.geom {
             PrimGeom::Tri(_) => {
@@ -459,12 +477,8 @@ impl Bvh {
                 (a.normal(ray.org - self.centre + ray.dir * t), info.id)
             }
             PrimGeom::Placed(k) => {
-                // The closest hit in the shared BVH again, now for its object and normal
-                // (the traversal callback only keeps distances): the same closest hit,
-                // since nothing nearer than `t` exists there.
                 let pl = &self.placed[*k as usize];
-                let r = pl.local_ray(ray.org, ray.dir);
-                match pl.bvh.intersect(&r, tmin / pl.sca, f64::INFINITY) {
+                match inner {
                     Some(h) => (
                         mat_vector(&pl.fwd, h.normal).normalize(),
                         h.object + pl.id_offset,
@@ -512,12 +526,12 @@ impl Bvh {
         let mut best_t = tmax;
         let mut best = None;
         for (i, p) in self.prims.iter().enumerate() {
-            if let Some(t) = self.prim_hit(p, org, ray.dir, tmin, best_t) {
+            if let Some((t, inner)) = self.prim_hit_inner(p, org, ray.dir, tmin, best_t) {
                 best_t = t;
-                best = Some(i);
+                best = Some((i, inner));
             }
         }
-        best.map(|i| self.make_hit(ray, i, best_t, tmin))
+        best.map(|(i, inner)| self.make_hit(ray, i, best_t, inner))
     }
 }
 
