@@ -264,6 +264,52 @@ fn applied_tint_reaches_the_noise_level() {
     );
 }
 
+/// Issue 22, point 4: a coating whose only error is its shape (same photopic Tvis, bluish).
+/// Explain names the tint from the channel shapes but keeps the photopic transmittance the
+/// photopic readings support (no level change), so applying it leaves the photopic error
+/// at the noise level instead of moving it.
+#[test]
+fn same_tvis_tint_keeps_the_photopic_level() {
+    let c = case(
+        "same-tvis",
+        vec![Effect::Tint {
+            scale: 1.0,
+            slope: -0.5,
+            curvature: 0.0,
+        }],
+    );
+    let o = evaluate(&c);
+    assert_eq!(o.ex.selected.len(), 1, "{}", text(&o.ex));
+    let Effect::Tint { scale, slope, .. } = o.ex.selected[0].effect else {
+        panic!("not a tint: {}", text(&o.ex))
+    };
+    assert_eq!(scale, 1.0, "the photopic level must stay: {}", text(&o.ex));
+    // The truth's pattern is capped where the bluish shape would make the glass transmit
+    // more than all of the light (`tinted_scene`), so the fitted shape is the capped one's
+    // least-squares match: bluish, most of the shape residual removed.
+    assert!((-0.65..=-0.35).contains(&slope), "slope {slope}");
+    let sh = &o.ex.shape;
+    assert!(sh.rms_after < 0.2 * sh.rms_before, "{sh:?}");
+    assert!(
+        o.before.0 > 1.5 * o.noise.0,
+        "shape visible in MAE: {:?} vs {:?}",
+        o.before,
+        o.noise
+    );
+    assert!(
+        o.after.0 <= 1.3 * o.noise.0,
+        "MAE {:?} vs {:?}",
+        o.after,
+        o.noise
+    );
+    assert!(
+        o.after.1 <= 1.3 * o.noise.1,
+        "RMSE_rel {:?} vs {:?}",
+        o.after,
+        o.noise
+    );
+}
+
 #[test]
 fn control_reports_nothing() {
     let c = case("control", vec![]);

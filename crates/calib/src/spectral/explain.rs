@@ -21,9 +21,10 @@
 //! costs two parameters; the small shape change a grey glazing makes by shifting the
 //! sun/sky mix is not counted), with a coloured glazing the tint wins. It is kept when its shape term is significant ([`SIGNIFICANT`], and at least
 //! [`MIN_GAIN`] of the shape error removed); then it replaces the transmittance effect (it
-//! carries the level), its level re-fitted on top of the other selected effects, or, when
-//! it is the only one, by the seed's criterion: the lowest 18-channel MAE over all readings
-//! ([`mae_level`]).
+//! carries the level), its level re-fitted on top of the other selected effects when the
+//! photopic explain selected a transmittance change, else the modelled photopic level kept
+//! (scale 1): the photopic readings, not the channel shapes, say what the glazing's
+//! photopic transmittance is.
 
 use super::SpectralModel;
 use crate::effects::{Effect, golden, tint, transmittance};
@@ -216,31 +217,6 @@ pub fn shape_significant(s: &ShapeFit) -> bool {
     s.delta_bic < -SIGNIFICANT && gain >= MIN_GAIN
 }
 
-/// Eq. 6.1 over every reading and channel with the tint `(scale, shape)`.
-pub fn mae_all(m: &SpectralModel, scale: f64, shape: &ShapeFit) -> f64 {
-    let f = tint::band_factors(scale, shape.slope, shape.curvature, &m.ch());
-    let (mut sum, mut n) = (0.0, 0usize);
-    for i in 0..m.obs.len() {
-        for (y, x) in m.channels(i, Some(&f)).iter().zip(&m.meas[i]) {
-            sum += (y - x).abs();
-            n += 1;
-        }
-    }
-    if n > 0 { sum / n as f64 } else { 0.0 }
-}
-
-/// The tint level with the lowest [`mae_all`] (log scale, 0.05 to 2).
-pub fn mae_level(m: &SpectralModel, shape: &ShapeFit) -> f64 {
-    golden(
-        &mut |l| mae_all(m, l.exp(), shape),
-        0.05f64.ln(),
-        2f64.ln(),
-        40,
-    )
-    .0
-    .exp()
-}
-
 /// Explain with spectral readings: `pm` is the photopic model on the readings' photopic
 /// values, `sm` the spectral one.
 pub fn explain(
@@ -271,20 +247,25 @@ pub fn explain(
             "transmittance",
         );
         let mut c = tint_candidate(&f, &others, &shape, &ids, &windows);
-        if others.is_empty() {
-            // Alone, its level is the seed's: the lowest 18-channel MAE over all readings
-            // (the bright sensors near the window decide; the photopic score weights every
-            // sensor alike, and deep sensors carry the model's Monte Carlo error).
-            let scale = mae_level(sm, &shape);
+        // The level is what the photopic readings support: the transmittance the photopic
+        // explain selected, re-fitted with the tint on top of the other effects
+        // (`tint_candidate`); when it selected none, the modelled photopic transmittance
+        // stays (scale 1). A level taken from the spectral channels instead (the seed's
+        // lowest 18-channel MAE) moved the photopic transmittance of a tint whose only
+        // error was its shape and left the photopic readings 4x the noise (issue 22).
+        if !ex.selected.iter().any(|c| c.family == "transmittance") {
             let e = Effect::Tint {
-                scale,
+                scale: 1.0,
                 slope: shape.slope,
                 curvature: shape.curvature,
             };
+            let mut all = others.clone();
+            all.push(e.clone());
+            c.rmse_after = stats_of(pm, &pm.predict(&all)).rmse_rel;
             c.spec = e.spec(&ids, &windows);
             c.params = e.named_params(&ids, &windows);
             c.description = e.describe(&ids, &windows);
-            c.value = scale;
+            c.value = 1.0;
             c.effect = e;
         }
         selected.retain(|c| c.family != "transmittance");
