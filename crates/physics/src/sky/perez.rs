@@ -109,8 +109,14 @@ pub fn coefficients(category: usize, epsilon: f64, delta: f64, z: f64) -> [f64; 
 /// Relative luminance `(1 + a e^{b / cos zeta})(1 + c e^{d gamma} + e cos^2 gamma)` for
 /// zenith angle `zeta` and sun angle `gamma` (radians). May be negative; callers clamp.
 pub fn relative_luminance(p: &[f64; 5], gamma: f64, zeta: f64) -> f64 {
-    (1.0 + p[0] * (p[1] / zeta.cos()).exp())
-        * (1.0 + p[2] * (p[3] * gamma).exp() + p[4] * gamma.cos() * gamma.cos())
+    relative_luminance_cos(p, gamma, gamma.cos(), zeta.cos())
+}
+
+/// [`relative_luminance`] with the cosines of `gamma` and `zeta` already known (the sky
+/// matrix evaluates every patch at every step: the trigonometry is most of its cost).
+pub fn relative_luminance_cos(p: &[f64; 5], gamma: f64, cos_gamma: f64, cos_zeta: f64) -> f64 {
+    (1.0 + p[0] * (p[1] / cos_zeta).exp())
+        * (1.0 + p[2] * (p[3] * gamma).exp() + p[4] * cos_gamma * cos_gamma)
 }
 
 /// `perezlum.cal`'s `skybright` for a unit direction and gendaylit's 10 arguments
@@ -324,15 +330,17 @@ pub fn perez_sky_vector(
     let azimuth = pos.azimuth_east_of_north(options.rotation_deg);
     let z = state.sun_zenith;
     let p = coefficients(state.category, state.epsilon, state.delta, z);
+    let geo = patches.geometry();
+    let (cz, sz) = (z.cos(), z.sin());
+    let (ca, sa) = (azimuth.cos(), azimuth.sin());
     let mut norm = 0.0;
-    for i in 1..n {
-        let (palt, pazi) = patches.centre_angles(i);
-        let aas = (pazi - azimuth).abs();
-        let zsa = PI / 2.0 - palt;
-        let cos_gamma = z.cos() * zsa.cos() + z.sin() * zsa.sin() * aas.cos();
-        let lv = relative_luminance(&p, cos_gamma.clamp(-1.0, 1.0).acos(), zsa).max(0.0);
+    for (i, g) in geo.iter().enumerate().skip(1) {
+        // cos(azi - azimuth) by the difference formula: no trigonometry per patch.
+        let cos_daz = g.cos_azi * ca + g.sin_azi * sa;
+        let cos_gamma = (cz * g.cos_zenith + sz * g.sin_zenith * cos_daz).clamp(-1.0, 1.0);
+        let lv = relative_luminance_cos(&p, cos_gamma.acos(), cos_gamma, g.cos_zenith).max(0.0);
         out.sky[i] = lv;
-        norm += lv * palt.sin() * patches.solid_angle(i);
+        norm += lv * g.sin_alt * g.solid_angle;
     }
     if norm <= FTINY {
         out.sky[1..].iter_mut().for_each(|v| *v = 1.0);
@@ -350,8 +358,8 @@ pub fn perez_sky_vector(
         };
         let sun = direction(alt, azimuth);
         let mut near: Vec<(f64, usize)> = vec![(-1.0, 0); nsuns];
-        for i in 1..n {
-            let c = patches.centre(i);
+        for (i, g) in geo.iter().enumerate().skip(1) {
+            let c = g.dir;
             let d = c[0] * sun[0] + c[1] * sun[1] + c[2] * sun[2];
             if let Some(k) = near.iter().position(|&(nd, _)| d > nd) {
                 near.insert(k, (d, i));
@@ -364,7 +372,7 @@ pub fn perez_sky_vector(
             .five_phase_sun_deg
             .map(|deg| (PI / 360.0 * deg).powi(2) * PI);
         for (&(_, i), w) in near.iter().zip(&weights) {
-            let omega = fixed.unwrap_or_else(|| patches.solid_angle(i));
+            let omega = fixed.unwrap_or(geo[i].solid_angle);
             out.sun
                 .push((i, w * state.dir_illum / (WHITE_EFFICACY * wtot) / omega));
         }
