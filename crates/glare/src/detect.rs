@@ -111,6 +111,9 @@ pub struct Detection {
 
 struct State<'a> {
     p: &'a Pixels,
+    /// The pixel directions row by row (`x + y·xres`): the neighbour searches walk along
+    /// x, which in `Pixels`' column-major layout strides a whole column per step.
+    rows: Vec<[f64; 3]>,
     gsn: Vec<usize>,
     pgs: Vec<bool>,
     src: Vec<Source>,
@@ -175,6 +178,8 @@ impl State<'_> {
     ) -> usize {
         let p = self.p;
         let (x, y) = (x as i64, y as i64);
+        let cos_half = (0.5 * r).cos();
+
         let x_max = if act == 0 { x } else { p.xres as i64 - 1 };
         let y_max = p.yres as i64 - 1;
         let here = p.at(x as usize, y as usize);
@@ -192,7 +197,8 @@ impl State<'_> {
                     let mut stop_x = false;
                     while ix <= x_max && ix >= 0 && !stop_x && !stop_y {
                         let j = p.at(ix as usize, iy as usize);
-                        if p.radius(here, j) <= r {
+                        let there = self.rows[ix as usize + iy as usize * p.xres];
+                        if Pixels::within_dirs(p.dir[here], there, r, cos_half) {
                             let f = self.gsn[j];
                             if f > 0 {
                                 if act == 0 {
@@ -243,6 +249,7 @@ impl State<'_> {
     /// we bound it by the smaller of width and height (the same for square pictures, and
     /// never outside the picture).
     fn find_split(&self, x: usize, y: usize, r: f64, start: usize, end: usize) -> usize {
+        let cos_half = (0.5 * r).cos();
         let p = self.p;
         let here = p.at(x, y);
         let (x, y) = (x as i64, y as i64);
@@ -257,7 +264,8 @@ impl State<'_> {
                     let mut ix = if dx == -1 { x } else { x + 1 };
                     while ix <= x_max && ix >= 0 {
                         let j = p.at(ix as usize, iy as usize);
-                        if p.radius(here, j) <= r {
+                        let there = self.rows[ix as usize + iy as usize * p.xres];
+                        if Pixels::within_dirs(p.dir[here], there, r, cos_half) {
                             out_r = true;
                             let g = self.gsn[j];
                             if g >= start && g <= end {
@@ -315,11 +323,12 @@ impl State<'_> {
 /// over every pixel of the picture (evalglare does not check validity here).
 pub fn task_luminance(p: &Pixels, x: usize, y: usize, r: f64) -> f64 {
     let c = p.at(x, y);
+    let cos_half = (0.5 * r).cos();
     let (mut s, mut o) = (0.0, 0.0);
     for xx in 0..p.xres {
         for yy in 0..p.yres {
             let j = p.at(xx, yy);
-            if p.radius(c, j) <= r {
+            if p.within(c, j, r, cos_half) {
                 s += p.omega[j] * p.lum[j];
                 o += p.omega[j];
             }
@@ -370,8 +379,15 @@ pub fn detect(p: &Pixels, opts: &DetectOptions, avlum: f64) -> Detection {
     };
 
     let n = p.xres * p.yres;
+    let mut rows = vec![[0.0; 3]; n];
+    for x in 0..p.xres {
+        for y in 0..p.yres {
+            rows[x + y * p.xres] = p.dir[p.at(x, y)];
+        }
+    }
     let mut st = State {
         p,
+        rows,
         gsn: vec![0; n],
         pgs: vec![false; n],
         src: vec![Source::default()],

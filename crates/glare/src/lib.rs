@@ -188,12 +188,20 @@ fn median(mut v: Vec<f64>) -> f64 {
     if v.is_empty() {
         return 0.0;
     }
-    v.sort_by(|a, b| a.total_cmp(b));
+    // Selection instead of a full sort (a million pixels, three medians per picture): the
+    // same order statistics, in linear time.
     let n = v.len();
+    let (below, mid, _) = v.select_nth_unstable_by(n / 2, |a, b| a.total_cmp(b));
+    let mid = *mid;
     if n % 2 == 0 {
-        (v[n / 2] + v[n / 2 - 1]) / 2.0
+        let lower = below
+            .iter()
+            .copied()
+            .max_by(|a, b| a.total_cmp(b))
+            .unwrap_or(mid);
+        (mid + lower) / 2.0
     } else {
-        v[n / 2]
+        mid
     }
 }
 

@@ -24,7 +24,7 @@
 //!   (`dir·vdir ≥ 0`; the corners of a 180° angular fisheye do not).
 
 use crate::formats::picture::Picture;
-use crate::formats::view::Camera;
+use crate::formats::view::{Camera, quad_solid_angle};
 
 /// 3-vectors; the dot product in Radiance's order (`DOT`) keeps `acos(dot)` of a pixel with
 /// itself bit-identical to evalglare's.
@@ -58,50 +58,68 @@ impl Pixels {
         use rayon::prelude::*;
         let (xres, yres) = (pic.width, pic.height);
         let angular = camera.view().vtype == crate::formats::view::ViewType::Angular;
+        let not_parallel = camera.view().vtype != crate::formats::view::ViewType::Parallel;
         let vdir = camera.dir();
         let ex = pic.exposure();
-        // one column (fixed x) per task, y from the bottom: the flat index is y + x·yres
-        type Px = (V3, f64, f64, bool, bool);
-        let cols: Vec<Vec<Px>> = (0..xres)
-            .into_par_iter()
-            .map(|x| {
-                (0..yres)
-                    .map(|y| {
-                        let row = yres - 1 - y;
-                        let ray = camera.pixel_ray(x, row, xres, yres);
-                        let omega = camera.pixel_solid_angle(x, y, xres, yres);
-                        let lum = luminance(pic, x, row, &ex);
-                        match ray {
-                            Some(r) => {
-                                let valid = omega > 0.0 && (!angular || dot(r.dir, vdir) >= 0.0);
-                                (r.dir, omega, lum, true, valid)
-                            }
-                            None => ([0.0; 3], omega, lum, false, false),
-                        }
-                    })
-                    .collect()
-            })
-            .collect();
         let n = xres * yres;
         let mut p = Pixels {
             xres,
             yres,
-            dir: Vec::with_capacity(n),
-            omega: Vec::with_capacity(n),
-            lum: Vec::with_capacity(n),
-            inview: Vec::with_capacity(n),
-            valid: Vec::with_capacity(n),
+            dir: vec![[0.0; 3]; n],
+            omega: vec![0.0; n],
+            lum: vec![0.0; n],
+            inview: vec![false; n],
+            valid: vec![false; n],
             camera,
         };
-        for col in cols {
-            for (d, o, l, iv, v) in col {
-                p.dir.push(d);
-                p.omega.push(o);
-                p.lum.push(l);
-                p.inview.push(iv);
-                p.valid.push(v);
-            }
-        }
+        // Blocks of columns in parallel, written in place (the flat index is y + x·yres, so
+        // a column is a contiguous run of yres pixels, y from the bottom). Pixel corners
+        // are shared by adjacent pixels: a block computes its `BLOCK + 1` corner columns
+        // once (the values `Camera::pixel_solid_angle` computes, with about a quarter of
+        // the view rays).
+        const BLOCK: usize = 16;
+        let chunk = (BLOCK * yres).max(1);
+        let cam = &p.camera;
+        let corners = |cx: usize| -> Vec<Option<V3>> {
+            let fx = cx as f64 / xres as f64;
+            (0..=yres)
+                .map(|k| cam.view_ray(fx, k as f64 / yres as f64).map(|r| r.dir))
+                .collect()
+        };
+        p.dir
+            .par_chunks_mut(chunk)
+            .zip(p.omega.par_chunks_mut(chunk))
+            .zip(p.lum.par_chunks_mut(chunk))
+            .zip(p.inview.par_chunks_mut(chunk))
+            .zip(p.valid.par_chunks_mut(chunk))
+            .enumerate()
+            .for_each(|(b, ((((dir, omega), lum), inview), valid))| {
+                let x0 = b * BLOCK;
+                let mut c0 = corners(x0);
+                for c in 0..dir.len() / yres {
+                    let x = x0 + c;
+                    let c1 = corners(x + 1);
+                    for y in 0..yres {
+                        let i = c * yres + y;
+                        let row = yres - 1 - y;
+                        let k = yres - 1 - y;
+                        let om = match (not_parallel, c0[k], c1[k], c1[k + 1], c0[k + 1]) {
+                            (true, Some(a), Some(b), Some(c), Some(d)) => {
+                                quad_solid_angle(a, b, c, d)
+                            }
+                            _ => 0.0,
+                        };
+                        omega[i] = om;
+                        lum[i] = luminance(pic, x, row, &ex);
+                        if let Some(r) = cam.pixel_ray(x, row, xres, yres) {
+                            dir[i] = r.dir;
+                            inview[i] = true;
+                            valid[i] = om > 0.0 && (!angular || dot(r.dir, vdir) >= 0.0);
+                        }
+                    }
+                    c0 = c1;
+                }
+            });
         p
     }
 
@@ -117,6 +135,27 @@ impl Pixels {
     #[inline]
     pub fn radius(&self, i: usize, j: usize) -> f64 {
         dot(self.dir[i], self.dir[j]).acos() * 2.0
+    }
+
+    /// `self.radius(i, j) <= r` without the arc cosine, for the searches that test
+    /// thousands of neighbours per pixel: `2·acos(d) <= r` is `d >= cos(r/2)` for `d <= 1`
+    /// (and false for `d > 1`, where acos is NaN). `cos_half` is `cos(r/2)`. Within 1e-12 of
+    /// the boundary the arc cosine decides, so every pixel falls on the side evalglare's
+    /// test puts it.
+    #[inline]
+    pub fn within(&self, i: usize, j: usize, r: f64, cos_half: f64) -> bool {
+        Self::within_dirs(self.dir[i], self.dir[j], r, cos_half)
+    }
+
+    /// [`Pixels::within`] for two directions.
+    #[inline]
+    pub fn within_dirs(a: V3, b: V3, r: f64, cos_half: f64) -> bool {
+        let d = dot(a, b);
+        if (d - cos_half).abs() < 1e-12 {
+            d.acos() * 2.0 <= r
+        } else {
+            d >= cos_half && d <= 1.0
+        }
     }
 
     /// Direction of `(x, y)` computed afresh (evalglare's `pict_get_dir` for positions

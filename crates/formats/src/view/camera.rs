@@ -477,8 +477,14 @@ impl Camera {
         ) else {
             return 0.0;
         };
-        triangle_solid_angle(a, b, c) + triangle_solid_angle(a, c, d)
+        quad_solid_angle(a, b, c, d)
     }
+}
+
+/// Solid angle of the pixel whose corner directions are `a, b, c, d` in order (two
+/// spherical triangles, [`Camera::pixel_solid_angle`]'s split).
+pub fn quad_solid_angle(a: V3, b: V3, c: V3, d: V3) -> f64 {
+    triangle_solid_angle(a, b, c) + triangle_solid_angle(a, c, d)
 }
 
 /// Solid angle of the spherical triangle of unit vectors `a, b, c`:

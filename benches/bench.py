@@ -1,0 +1,155 @@
+#!/usr/bin/env python3
+"""`make bench`: every pair of issue 18 in one table (ours against the Radiance program it
+stands beside), run on the same machine and inputs, the two programs alternating, medians
+of RUNS runs of whole-process CPU (user + sys), wall and peak memory (/usr/bin/time), and
+the ratio Radiance / ours (above 1: ours is faster or smaller). Not a test: the figures
+depend on the machine and its load, printed beside the table (quote ratios from an idle
+machine). docs/performance.md keeps the latest table.
+
+Rows (each needs pyradiance's Radiance 6 binaries, `make radiance`):
+  sky MF 1 / MF 4      rspecsky -m N -of          vs gendaymtx -m N -of (London IWEC year)
+  glare 1000 x 1000    rglare PIC                 vs evalglare PIC (an rpict fisheye of the
+                       furnished office, sun in view; rendered once into the work folder)
+  scene 1M triangles   rdc -ab 0 (load + BVH, one sensor)
+                                                  vs oconv + rtrace -ab 0 (one ray)
+  product MF 4         rmtx dc sky                vs dctimestep dc sky (165 x 2306 x 8760)
+The main job's peak memory step by step is benches/memory.sh's. The equal-noise rows (rdc vs rcontrib) take minutes per run and interpolate noise: they
+stay in benches/rdc_vs_rcontrib.py, whose last lines are appended when BENCH_NOISE=1.
+
+Usage: python3 benches/bench.py [RUNS]   (BENCH_DIR keeps inputs between runs)
+"""
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+REL = os.path.join(os.environ.get("CARGO_TARGET_DIR", os.path.join(ROOT, "target")), "release")
+EPW = os.path.join(ROOT, "examples", "weather", "GBR_London.Gatwick.037760_IWEC.epw")
+FIX = os.path.join(ROOT, "radiance-fixtures")
+ROOM = os.path.join(ROOT, "examples", "room")
+
+
+def radiance_env():
+    import pyradiance
+
+    root = os.path.dirname(pyradiance.__file__)
+    env = dict(os.environ)
+    env["PATH"] = os.path.join(root, "bin") + os.pathsep + env.get("PATH", "")
+    env["RAYPATH"] = "." + os.pathsep + os.path.join(root, "lib")
+    return env
+
+
+ENV = radiance_env()
+
+
+def sh(cmd, out=os.devnull, stdin=None, cwd=None):
+    """Run a shell command, stdout to `out`; exit on failure."""
+    with open(out, "wb") as f:
+        r = subprocess.run(cmd, shell=True, stdout=f, stderr=subprocess.PIPE, env=ENV, cwd=cwd,
+                           input=stdin)
+    if r.returncode != 0:
+        sys.exit(f"bench.py: `{cmd}` failed: {r.stderr.decode(errors='replace')[-400:]}")
+
+
+def timed(cmd, work):
+    """(cpu s, wall s, peak MiB) of one run of a shell command (a pipeline's peak is its
+    largest process's; a `;` list is timed step by step, CPU and wall summed)."""
+    cpu = wall = peak = 0.0
+    for step in cmd.split(" ;; "):
+        t = os.path.join(work, "time.txt")
+        sh(f"/usr/bin/time -f '%U %S %e %M' -o {t} sh -c '{step}'")
+        u, s, e, m = open(t).read().split()[-4:]
+        cpu += float(u) + float(s)
+        wall += float(e)
+        peak = max(peak, float(m) / 1024)
+    return cpu, wall, peak
+
+
+def pair(name, ours, theirs, runs, work):
+    a, b = [], []
+    for _ in range(runs):
+        a.append(timed(ours, work))
+        b.append(timed(theirs, work))
+    med = lambda v, k: statistics.median(x[k] for x in v)
+    return [name] + [med(a, k) for k in range(3)] + [med(b, k) for k in range(3)]
+
+
+def inputs(work):
+    """Inputs made once: the sky file, the fisheye, the 1M-triangle scene, the MF 4
+    coefficients and sky."""
+    wea = os.path.join(work, "site.wea")
+    if not os.path.exists(wea):
+        sh(f"epw2wea {EPW} {wea}")
+    pic = os.path.join(work, "fisheye.hdr")
+    if not os.path.exists(pic):
+        sh(f"oconv {FIX}/scenes/furnished.rad {FIX}/skies/clear_gendaylit.rad {FIX}/skies/skyglow.rad",
+           os.path.join(work, "glare.oct"))
+        sh("rpict -vta -vp 3 1.5 1.2 -vd 0 -1 0 -vu 0 0 1 -vh 180 -vv 180 -x 1000 -y 1000 "
+           f"-ab 1 -ad 128 -aa 0.2 -ar 16 -as 0 -ps 2 {work}/glare.oct", pic)
+    tri = os.path.join(work, "tri1m.rad")
+    if not os.path.exists(tri):
+        # 1,000,000 random triangles of ~5 cm in a 10 m box: one material, plain polygons
+        # (what a scanned or converted room becomes), seeded.
+        import random
+
+        rnd = random.Random(18)
+        with open(tri, "w") as f:
+            f.write("void plastic m 0 0 5 .5 .5 .5 0 0\n")
+            for i in range(1_000_000):
+                x, y, z = (rnd.uniform(0, 10) for _ in range(3))
+                v = [(x, y, z)] + [(x + rnd.uniform(-.05, .05), y + rnd.uniform(-.05, .05),
+                                    z + rnd.uniform(-.05, .05)) for _ in range(2)]
+                f.write(f"m polygon t{i} 0 0 9 " + " ".join(f"{c:.5f}" for p in v for c in p) + "\n")
+        with open(os.path.join(work, "one.pts"), "w") as f:
+            f.write("5 5 5 0 0 1\n")
+    dc = os.path.join(work, "dc4.mtx")
+    if not os.path.exists(dc):
+        sh(f"{REL}/rdc -I -ab 2 -ad 512 -lw 1e-4 -s 1 -m 4 -faf {ROOM}/room.rad < {ROOM}/sensors.pts", dc)
+        sh(f"gendaymtx -m 4 -of {wea}", os.path.join(work, "sky4.smx"))
+    return wea, pic, tri
+
+
+def main():
+    runs = int(sys.argv[1]) if len(sys.argv) > 1 else 3
+    if runs < 1 or runs > 50:
+        sys.exit("bench.py: RUNS must be 1..50")
+    sh("cargo build --release --quiet --bins", cwd=ROOT)
+    work = os.environ.get("BENCH_DIR") or tempfile.mkdtemp(prefix="rdaylight-bench-")
+    os.makedirs(work, exist_ok=True)
+    wea, pic, tri = inputs(work)
+    one = os.path.join(work, "one.pts")
+    rows = [
+        pair("sky matrix MF 1", f"{REL}/rspecsky -m 1 -of {EPW} > /dev/null",
+             f"gendaymtx -m 1 -of {wea} > /dev/null", runs, work),
+        pair("sky matrix MF 4", f"{REL}/rspecsky -m 4 -of {EPW} > /dev/null",
+             f"gendaymtx -m 4 -of {wea} > /dev/null", runs, work),
+        pair("fisheye glare 1000 x 1000", f"{REL}/rglare {pic} > /dev/null 2>&1",
+             f"evalglare {pic} > /dev/null 2>&1", runs, work),
+        pair("1M-triangle scene: load + BVH + 1 ray",
+             f"{REL}/rdc -I -ab 0 {tri} < {one} > /dev/null",
+             f"oconv {tri} > {work}/tri.oct ;; echo 5 5 5 0 0 1 | rtrace -I -ab 0 -h {work}/tri.oct > /dev/null",
+             runs, work),
+        pair("matrix product MF 4 (165 x 2306 x 8760)",
+             f"{REL}/rmtx {work}/dc4.mtx {work}/sky4.smx > /dev/null",
+             f"dctimestep {work}/dc4.mtx {work}/sky4.smx > /dev/null", runs, work),
+    ]
+    load = " ".join(f"{x:.1f}" for x in os.getloadavg())
+    print(f"# make bench: medians of {runs} alternating runs; load average {load}; "
+          f"{os.cpu_count()} cores")
+    print("| workload | ours CPU s | ours wall s | ours peak MB | Radiance CPU s | Radiance wall s | "
+          "Radiance peak MB | CPU ratio | memory ratio |")
+    print("|---|---|---|---|---|---|---|---|---|")
+    for name, oc, ow, om, rc, rw, rm in rows:
+        print(f"| {name} | {oc:.2f} | {ow:.2f} | {om:.1f} | {rc:.2f} | {rw:.2f} | {rm:.1f} | "
+              f"{rc / max(oc, 1e-3):.2f}x | {rm / max(om, 1e-3):.2f}x |")
+    if os.environ.get("BENCH_NOISE"):
+        r = subprocess.run([sys.executable, os.path.join(ROOT, "benches", "rdc_vs_rcontrib.py")],
+                           capture_output=True, text=True, env=ENV)
+        print("\nrdc vs rcontrib at equal noise (benches/rdc_vs_rcontrib.py):")
+        print("\n".join(r.stdout.strip().splitlines()[-3:]))
+
+
+if __name__ == "__main__":
+    main()
