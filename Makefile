@@ -298,6 +298,17 @@ shading-example: build
 	@$(call TAI_SPREAD,$(SHADE_OUT)/metrics3.tsv,$(SHADE_OUT)/metrics2.tsv,3-phase against 2-phase)
 	@$(call TAI_SPREAD,$(SHADE_OUT)/metrics5.tsv,$(SHADE_OUT)/metrics2.tsv,5-phase against 2-phase)
 
+# rcalib on rooms it was not built on (issue 22): the 14 hidden-effect cases of
+# radiance-fixtures/calib-cases/ (truths by real Radiance), explain -> apply ->
+# re-simulation each, the per-case table, and the issue's thresholds asserted.
+.PHONY: calib-cases bench
+calib-cases:
+	$(CARGO) test --release --workspace --test all rcalib_independent::independent_cases_meet_the_issue_thresholds -- --ignored --nocapture
+
+# Issue 18's pairs, ours against Radiance's, in one table (benches/bench.py).
+bench:
+	$(PYTHON) benches/bench.py
+
 # rcalib on the bundled hidden-effect case (examples/calib, made by `rcalib synth`): compare
 # the model with the readings, explain the error by a missing physical effect, apply it to
 # the model, compare again and watch RMSE_rel fall. Reports in $(OUT)/calib/*.html.

@@ -96,6 +96,8 @@ def inputs(work):
 
         rnd = random.Random(18)
         with open(tri, "w") as f:
+            # A uniform glow sky: rdc's point-in-time values need a light source.
+            f.write("void glow sky 0 0 4 1 1 1 0\nsky source skydome 0 0 4 0 0 1 360\n")
             f.write("void plastic m 0 0 5 .5 .5 .5 0 0\n")
             for i in range(1_000_000):
                 x, y, z = (rnd.uniform(0, 10) for _ in range(3))

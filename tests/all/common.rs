@@ -143,3 +143,36 @@ pub fn test_path(module_path: &str, name: &str) -> String {
         None => name.to_string(),
     }
 }
+
+/// A daylight-coefficient cache directory `$TMPDIR/<name>` for rcalib runs, seeded once per
+/// process from the committed entries in `fixture` (copied, then renamed, because rcalib
+/// runs of other tests may read the directory meanwhile). Keys hash the scene, sensors,
+/// settings and the tracer's `REVISION` (`calib::cache`), so stale fixture entries are
+/// simply never found and their values are traced again. `RDAYLIGHT_RCALIB_NO_SEED` skips
+/// the seeding: the Makefile's cache targets regenerate a fixture from nothing that way.
+pub fn seeded_cache(name: &str, fixture: &Path) -> PathBuf {
+    static SEEDED: std::sync::Mutex<Vec<String>> = std::sync::Mutex::new(Vec::new());
+    let dir = std::env::temp_dir().join(name);
+    let mut done = SEEDED.lock().unwrap_or_else(|e| e.into_inner());
+    if done.iter().any(|d| d == name) {
+        return dir;
+    }
+    done.push(name.to_string());
+    std::fs::create_dir_all(&dir).unwrap();
+    if std::env::var_os("RDAYLIGHT_RCALIB_NO_SEED").is_some() {
+        return dir;
+    }
+    for e in std::fs::read_dir(fixture).into_iter().flatten().flatten() {
+        let to = dir.join(e.file_name());
+        if !to.exists() {
+            let tmp = dir.join(format!(
+                ".seed-{}-{}",
+                std::process::id(),
+                e.file_name().to_string_lossy()
+            ));
+            std::fs::copy(e.path(), &tmp).unwrap();
+            std::fs::rename(&tmp, &to).unwrap();
+        }
+    }
+    dir
+}

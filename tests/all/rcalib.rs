@@ -27,36 +27,12 @@ fn london() -> Weather {
     Weather::read_path(repo().join("examples/weather/GBR_London.Gatwick.037760_IWEC.epw")).unwrap()
 }
 
-/// The daylight-coefficient cache of these tests, seeded once per process from the
-/// committed `tests/data/rcalib-cache/`: the coefficients of the cases `make test` runs,
-/// about 11 min of tracing on 2 cores otherwise. Keys hash the scene, sensors, settings and
-/// the tracer's `REVISION` (`calib::cache`), so after a tracer change the committed entries
-/// are simply not found and everything is traced again; `make rcalib-cache` regenerates the
-/// fixture from an empty cache.
+/// The daylight-coefficient cache of these tests, seeded from the committed
+/// `tests/data/rcalib-cache/` (the coefficients of the cases `make test` runs, about 11 min
+/// of tracing on 2 cores otherwise); `make rcalib-cache` regenerates the fixture from an
+/// empty cache ([`crate::common::seeded_cache`]).
 fn cache() -> PathBuf {
-    static SEEDED: std::sync::Once = std::sync::Once::new();
-    let dir = std::env::temp_dir().join("rcalib-test-cache");
-    SEEDED.call_once(|| {
-        std::fs::create_dir_all(&dir).unwrap();
-        if std::env::var_os("RDAYLIGHT_RCALIB_NO_SEED").is_some() {
-            return; // `make rcalib-cache`: what the cases need, from nothing
-        }
-        let fixture = repo().join("tests/data/rcalib-cache");
-        for e in std::fs::read_dir(&fixture).into_iter().flatten().flatten() {
-            let to = dir.join(e.file_name());
-            if !to.exists() {
-                // Copy then rename: rcalib processes of other tests may read the directory.
-                let tmp = dir.join(format!(
-                    ".seed-{}-{}",
-                    std::process::id(),
-                    e.file_name().to_string_lossy()
-                ));
-                std::fs::copy(e.path(), &tmp).unwrap();
-                std::fs::rename(&tmp, &to).unwrap();
-            }
-        }
-    });
-    dir
+    crate::common::seeded_cache("rcalib-test-cache", &repo().join("tests/data/rcalib-cache"))
 }
 
 fn rcalib() -> Command {

@@ -33,7 +33,13 @@ fn path(dir: &Path, key: u64) -> PathBuf {
 
 /// The cached values for `key`, if a complete file is there.
 pub fn load(dir: &Path, key: u64) -> Option<Vec<f64>> {
-    let bytes = std::fs::read(path(dir, key)).ok()?;
+    let p = path(dir, key);
+    let bytes = std::fs::read(&p).ok()?;
+    // A hit marks the entry as used now (its modification time), so the entries a run
+    // needs can be told from stale ones (`make calib-cases-cache` keeps only those).
+    if let Ok(f) = std::fs::File::options().append(true).open(&p) {
+        let _ = f.set_modified(std::time::SystemTime::now());
+    }
     let rest = bytes.strip_prefix(MAGIC.as_slice())?;
     let (n, data) = rest.split_at_checked(8)?;
     let n = u64::from_le_bytes(n.try_into().ok()?) as usize;
