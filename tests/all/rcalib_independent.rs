@@ -77,6 +77,7 @@ fn independent_cases() {
             o.seconds
         );
         if std::env::var("RCALIB_WORST").is_ok() {
+            println!("|   before refinement: {}", o.unrefined.join(" "));
             for w in &o.worst {
                 println!("|   worst: {w}");
             }
