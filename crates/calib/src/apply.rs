@@ -177,7 +177,11 @@ pub fn apply(
                 )?;
             }
             Effect::LocalObstruction { .. } | Effect::Furniture { .. } => {
-                if let Effect::LocalObstruction { sensors: g, fraction } = e {
+                if let Effect::LocalObstruction {
+                    sensors: g,
+                    fraction,
+                } = e
+                {
                     // The reason it cannot be placed (no sensors, no window).
                     local_panel(room, sensors, g, *fraction)?;
                 }

@@ -333,10 +333,7 @@ fn floor_outline(
     } else {
         polys
     };
-    let floor = polys
-        .iter()
-        .map(|v| v[0][2])
-        .fold(f64::INFINITY, f64::min);
+    let floor = polys.iter().map(|v| v[0][2]).fold(f64::INFINITY, f64::min);
     let floor = if floor.is_finite() { floor } else { 0.0 };
     // Edges keyed by their end points to the millimetre, either direction.
     type Point = (i64, i64);

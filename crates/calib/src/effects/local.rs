@@ -203,11 +203,7 @@ impl Slab {
         .into_iter()
         .map(|mut f| {
             // Wind so the Newell normal points away from the box's centre.
-            let ctr = [
-                0.5 * (a[0] + b[0]),
-                0.5 * (a[1] + b[1]),
-                0.5 * (z0 + z1),
-            ];
+            let ctr = [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1]), 0.5 * (z0 + z1)];
             let fc = f.iter().fold([0.0; 3], |s, v| {
                 [s[0] + v[0] / 4.0, s[1] + v[1] / 4.0, s[2] + v[2] / 4.0]
             });
@@ -262,7 +258,10 @@ pub fn slab_in(
             floor: room.floor,
             top: *top,
         }),
-        Effect::LocalObstruction { sensors: g, fraction } => {
+        Effect::LocalObstruction {
+            sensors: g,
+            fraction,
+        } => {
             let p = local_panel(room, sensors, g, *fraction).ok()?;
             let w = room.windows.get(p.window)?;
             let dm = 0.5 * (p.d.0 + p.d.1);
@@ -316,7 +315,11 @@ fn hidden_and_face(slab: &Slab, p: [f64; 3], m: &Model) -> (f64, f64) {
         num += w.area * (n[0] * w.outward[0] + n[1] * w.outward[1]);
         den += w.area;
     }
-    let c = if den > 0.0 { (num / den).clamp(-1.0, 1.0) } else { 0.0 };
+    let c = if den > 0.0 {
+        (num / den).clamp(-1.0, 1.0)
+    } else {
+        0.0
+    };
     let hidden = if c < 0.0 {
         1.0 + (HIDDEN_BACK - 1.0) * -c
     } else {
@@ -384,9 +387,15 @@ struct Frame {
 impl Frame {
     fn effect(&self, w: &Window) -> Effect {
         let (a, b) = if self.across {
-            (plan_point(w, self.u0, self.d), plan_point(w, self.u0, self.u1))
+            (
+                plan_point(w, self.u0, self.d),
+                plan_point(w, self.u0, self.u1),
+            )
         } else {
-            (plan_point(w, self.u0, self.d), plan_point(w, self.u1, self.d))
+            (
+                plan_point(w, self.u0, self.d),
+                plan_point(w, self.u1, self.d),
+            )
         };
         Effect::Furniture {
             a,
@@ -431,7 +440,10 @@ pub fn fit(f: &Fitter, base: &[Effect]) -> Option<Effect> {
                 .map(|&s| m.sensors[s].ray.org[2])
                 .fold(f64::NEG_INFINITY, f64::max);
             for (wi, w) in walls.iter().enumerate() {
-                let ds: Vec<f64> = group.iter().map(|&s| w.depth_of(m.sensors[s].ray.org)).collect();
+                let ds: Vec<f64> = group
+                    .iter()
+                    .map(|&s| w.depth_of(m.sensors[s].ray.org))
+                    .collect();
                 let us: Vec<f64> = group
                     .iter()
                     .map(|&s| dot(m.sensors[s].ray.org, w.tangent))
@@ -491,17 +503,40 @@ fn top_range(m: &Model, zg: f64) -> (f64, f64) {
 }
 
 /// -2 ln L of the panel `e` on the other effects' weights `w0`; effectively infinite for a
-/// panel within [`CLEARANCE`] of a sensor.
+/// panel within [`CLEARANCE`] of a sensor or with an end outside the floor (through a wall,
+/// `rcalib apply` would write it out into the open).
 fn score(f: &Fitter, w0: &Weights, e: &Effect) -> f64 {
     if let Some(slab) = slab_of(e, f.m)
-        && f.m
+        && (f
+            .m
             .sensors
             .iter()
             .any(|s| slab.plan_distance(s.ray.org) < CLEARANCE)
+            || !inside_floor(&f.m.room.outline, slab.a)
+            || !inside_floor(&f.m.room.outline, slab.b))
     {
         return 1e30;
     }
     f.m2ll_on(w0, e)
+}
+
+/// Whether plan point `p` is inside the floor outline (even-odd rule over its edges, in any
+/// order); true without an outline.
+fn inside_floor(outline: &[[f64; 4]], p: [f64; 2]) -> bool {
+    if outline.is_empty() {
+        return true;
+    }
+    let mut inside = false;
+    for e in outline {
+        let (y0, y1) = (e[1], e[3]);
+        if (y0 > p[1]) != (y1 > p[1]) {
+            let x = e[0] + (p[1] - y0) / (y1 - y0) * (e[2] - e[0]);
+            if p[0] < x {
+                inside = !inside;
+            }
+        }
+    }
+    inside
 }
 
 /// Coordinate refinement of a panel's continuous parameters (position, ends, top), each by
@@ -607,7 +642,10 @@ mod tests {
         // A small surface facing a parallel rectangle a x b at distance c, on the normal
         // through one corner: F = (1/2pi) [X/sqrt(1+X^2) atan(Y/sqrt(1+X^2)) + (X <-> Y)],
         // X = a/c, Y = b/c (Howell's catalogue of view factors, B-2).
-        let s = Slab { thick: 0.0, ..slab() };
+        let s = Slab {
+            thick: 0.0,
+            ..slab()
+        };
         let c: f64 = 0.7;
         let (x, y): (f64, f64) = (2.0 / c, 1.6 / c);
         let f = (x / (1.0 + x * x).sqrt() * (y / (1.0 + x * x).sqrt()).atan()
@@ -624,6 +662,24 @@ mod tests {
     }
 
     #[test]
+    fn inside_floor_by_its_edges() {
+        // An L-shaped floor, edges in no particular order.
+        let l = [
+            [0.0, 0.0, 4.0, 0.0],
+            [2.0, 2.0, 0.0, 2.0],
+            [4.0, 0.0, 4.0, 1.0],
+            [0.0, 2.0, 0.0, 0.0],
+            [4.0, 1.0, 2.0, 1.0],
+            [2.0, 1.0, 2.0, 2.0],
+        ];
+        assert!(inside_floor(&l, [1.0, 1.5]));
+        assert!(inside_floor(&l, [3.0, 0.5]));
+        assert!(!inside_floor(&l, [3.0, 1.5]));
+        assert!(!inside_floor(&l, [-0.5, 1.0]));
+        assert!(inside_floor(&[], [9.0, 9.0]));
+    }
+
+    #[test]
     fn crossing_blocks_below_the_top_only() {
         let s = slab();
         let org = [1.0, -1.0, 0.8];
@@ -637,7 +693,10 @@ mod tests {
         assert!(s.lowest_crossing(org, [0.0, e.cos(), e.sin()]).unwrap() > s.top);
         // Away from the panel, or beside it: no crossing.
         assert!(s.lowest_crossing(org, [0.0, -1.0, 0.0]).is_none());
-        assert!(s.lowest_crossing([3.0, -1.0, 0.8], [0.0, 1.0, 0.0]).is_none());
+        assert!(
+            s.lowest_crossing([3.0, -1.0, 0.8], [0.0, 1.0, 0.0])
+                .is_none()
+        );
     }
 
     #[test]
@@ -679,8 +738,8 @@ mod tests {
     #[test]
     fn apply_writes_the_box_the_model_blocks_with() {
         use crate::formats::sensors::{Sensor, SensorRay};
-        use rdaylight_physics::geometry::{Ray, Shape, Vec3};
         use rand::{Rng, SeedableRng};
+        use rdaylight_physics::geometry::{Ray, Shape, Vec3};
         let text = "void plastic floor_mat 0 0 5 .3 .3 .3 0 0\n\
                     void glass glazing 0 0 3 .9 .9 .9\n\
                     floor_mat polygon floor 0 0 12 0 0 0 4 0 0 4 6 0 0 6 0\n\
@@ -723,8 +782,8 @@ mod tests {
         let mut rng = rand_pcg::Pcg64::seed_from_u64(5);
         for e in &panels {
             let slab = slab_in(e, &room, &sensors).unwrap();
-            let out = crate::apply::apply(&scene, &room, &sensors, std::slice::from_ref(e), "t")
-                .unwrap();
+            let out =
+                crate::apply::apply(&scene, &room, &sensors, std::slice::from_ref(e), "t").unwrap();
             let applied = crate::scene::parse_str(
                 &out,
                 "<applied>",
@@ -763,7 +822,10 @@ mod tests {
                 }
             }
             assert_eq!(agree, n, "{e:?}: {} of {n} rays disagree", n - agree);
-            assert!(blocked > n / 50 && blocked < n / 2, "{e:?}: {blocked} of {n}");
+            assert!(
+                blocked > n / 50 && blocked < n / 2,
+                "{e:?}: {blocked} of {n}"
+            );
         }
     }
 

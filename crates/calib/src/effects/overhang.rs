@@ -145,7 +145,11 @@ pub fn apply(e: &Effect, m: &Model, wt: &mut Weights) {
             .map(|w| w.area * dot(d, w.outward).max(0.0))
             .sum();
         let ground = 0.5 * rho * d[2].max(0.0) * area;
-        if total > 0.0 { f * a / (total + ground) } else { 0.0 }
+        if total > 0.0 {
+            f * a / (total + ground)
+        } else {
+            0.0
+        }
     };
     let np = m.comps.npatch;
     let ns = m.nsens();

@@ -110,7 +110,11 @@ mod tests {
         let (ns, nt) = (12, 18);
         let (mut meas, mut sens) = (Vec::new(), Vec::new());
         for s in 0..ns {
-            let off = if s == 0 { offset } else { 0.03 * normal(&mut rng) };
+            let off = if s == 0 {
+                offset
+            } else {
+                0.03 * normal(&mut rng)
+            };
             for _ in 0..nt {
                 meas.push(1000.0 * (off + 0.02 * normal(&mut rng)).exp());
                 sens.push(s);
