@@ -186,10 +186,15 @@ pub fn apply(e: &Effect, m: &Model, wt: &mut Weights) {
 /// storey-slab above it.
 const ABOVE_GRID: [f64; 6] = [0.0, 0.15, 0.3, 0.5, 0.75, 1.0];
 
+/// Overruns the fit starts from, as fractions of the depth: a plate flush with the
+/// opening's sides, half as far, and as far as deep (the earlier form's only choice). The
+/// overrun decides which oblique suns the plate's ends let in, which trades against the
+/// height and the depth, so it is searched with them from the start.
+const OVERRUN_GRID: [f64; 3] = [0.0, 0.5, 1.0];
+
 /// Best depth (0 to 3 m), height above the head (0 to [`MAX_ABOVE`]) and overrun beyond the
-/// opening's sides for each window given the other effects: a coarse grid over depth and
-/// height with the overrun as deep as the plate (the likelihood has shoulders where suns
-/// cross the plate's edges), then golden-section refinement of the depth, the height and
+/// opening's sides for each window given the other effects: a coarse grid over all three
+/// (the likelihood has shoulders where suns cross the plate's edges), then golden-section refinement of the depth, the height and
 /// the overrun in turn, twice (the overrun decides the oblique suns of mornings and
 /// evenings and the sensors' side views).
 pub fn fit(f: &Fitter, base: &[Effect]) -> Option<Effect> {
@@ -208,19 +213,19 @@ pub fn fit(f: &Fitter, base: &[Effect]) -> Option<Effect> {
                 },
             )
         };
-        let eval = |depth: f64, above: f64| eval3(depth, above, depth);
-        let mut start = (0.0, 0.0, f64::INFINITY);
+        let mut start = (0.0, 0.0, 0.0, f64::INFINITY);
         for &a in &ABOVE_GRID {
             for k in 0..=12 {
                 let d = 0.25 * k as f64;
-                let s = eval(d, a);
-                if s < start.2 {
-                    start = (d, a, s);
+                for o in OVERRUN_GRID {
+                    let s = eval3(d, a, o * d);
+                    if s < start.3 {
+                        start = (d, a, o * d, s);
+                    }
                 }
             }
         }
-        let (mut d, mut a, mut s) = start;
-        let mut o = d;
+        let (mut d, mut a, mut o, mut s) = start;
         for _ in 0..2 {
             let (d1, s1) = golden(&mut |x| eval3(x, a, o), (d - 0.25).max(0.0), d + 0.25, 14);
             if s1 < s {
@@ -258,4 +263,73 @@ pub fn fit(f: &Fitter, base: &[Effect]) -> Option<Effect> {
         }
     }
     best.map(|b| b.0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A 2 m wide, 1.4 m high opening in the wall y = 0, facing -y (outward), head at 2.3 m.
+    fn window() -> Window {
+        Window {
+            id: "w".into(),
+            centroid: [1.0, 0.0, 1.6],
+            outward: [0.0, -1.0, 0.0],
+            sill: 0.9,
+            head: 2.3,
+            area: 2.8,
+            span: (-2.0, 0.0),
+            tangent: [1.0, 0.0, 0.0],
+        }
+    }
+
+    #[test]
+    fn overrun_decides_the_oblique_sun_under_the_plate_ends() {
+        let w = window();
+        // Sun 30 degrees up, 50 degrees off the window's normal (towards +tangent, so -x in
+        // the tangent's terms is where the ray drifts from): d = (sin a cos h, -cos a cos h,
+        // sin h) with tangent (1, 0, 0): drift along the wall k = d.t / d_z.
+        let (h, a) = (30f64.to_radians(), 50f64.to_radians());
+        let d = [a.sin() * h.cos(), -a.cos() * h.cos(), h.sin()];
+        let plate = |overrun| Plate {
+            depth: 1.4,
+            above: 0.4,
+            overrun,
+        };
+        // Flush with the opening's sides: the columns near the far end are sunlit under the
+        // plate's end; 1.5 m past the sides the whole width is shaded alike.
+        let (flush, _) = shaded(&w, plate(0.0), d);
+        let (wide, _) = shaded(&w, plate(1.5), d);
+        assert!(flush < wide - 0.05, "{flush} {wide}");
+        // Straight out (no drift) the overrun changes nothing.
+        let n = [0.0, -h.cos(), h.sin()];
+        let (a0, _) = shaded(&w, plate(0.0), n);
+        let (a1, _) = shaded(&w, plate(1.5), n);
+        assert!((a0 - a1).abs() < 1e-12);
+        // And the shaded share is the profile-angle rule there: the top D tan(phi) - A of
+        // the opening (tan(phi) = tan(30 deg) straight out).
+        let expect = ((1.4 * h.tan() - 0.4) / 1.4).clamp(0.0, 1.0);
+        assert!((a0 - expect).abs() < 1e-9, "{a0} {expect}");
+    }
+
+    #[test]
+    fn overhang_spec_reads_the_overrun_and_defaults_it_to_the_depth() {
+        let w = vec!["w".to_string()];
+        let e = Effect::parse("overhang:1.4,w,0.4,0.5", &[], &w).unwrap();
+        assert_eq!(
+            e,
+            Effect::Overhang {
+                window: 0,
+                depth: 1.4,
+                above: 0.4,
+                overrun: 0.5
+            }
+        );
+        assert_eq!(e.spec(&[], &w), "overhang:1.40,w,0.40,0.50");
+        assert!(matches!(
+            Effect::parse("overhang:1.2", &[], &w).unwrap(),
+            Effect::Overhang { overrun, .. } if overrun == 1.2
+        ));
+        assert!(Effect::parse("overhang:1.2,w,0,9", &[], &w).is_err());
+    }
 }
