@@ -235,7 +235,13 @@ pub struct ApplyArgs {
     /// Sensors (ids for local obstructions and sensor faults).
     #[arg(long)]
     pub sensors: String,
-    /// Effect NAME:params (repeatable), as `rcalib explain` prints them.
+    /// Effect NAME:params (repeatable), as `rcalib explain` prints them:
+    /// transmittance:SCALE; walls|ceiling|floor|ground-albedo:SCALE;
+    /// obstruction:AZIMUTH,HALF_WIDTH,ALTITUDE (degrees);
+    /// overhang:DEPTH[,WINDOW[,ABOVE[,OVERRUN]]] (m; OVERRUN past each side of the
+    /// opening, default DEPTH); local-obstruction:X0,Y0,X1,Y1,TOP[,THICK] (a box standing
+    /// on the floor along the plan segment, m; THICK default 0.1) or the older
+    /// local-obstruction:FRACTION,ID+ID; sensor-fault:ID=F+ID=F; tint:SCALE,SLOPE,CURVATURE.
     #[arg(long = "effect", required = true)]
     pub effects: Vec<String>,
     /// With sensor-fault effects: the readings to correct ...

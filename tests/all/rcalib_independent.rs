@@ -78,6 +78,7 @@ fn table(names: &[String], opts: &Options, worst: bool) -> Vec<Outcome> {
             o.seconds
         );
         if worst {
+            println!("|   before refinement: {}", o.unrefined.join(" "));
             for w in &o.worst {
                 println!("|   worst: {w}");
             }

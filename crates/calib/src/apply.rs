@@ -5,8 +5,8 @@
 //! | transmittance | every `glass` transmissivity times the scale (capped at 1) |
 //! | walls / ceiling / floor / ground-albedo | the class's material colours times the scale (capped at 0.95) |
 //! | obstruction | vertical facets (plastic, reflectance [`OBSTRUCTION_REFLECTANCE`]) on a circle of radius [`OBSTRUCTION_RADIUS`] around the windows, as high as the fitted horizon altitude seen from the window centres |
-//! | overhang | a horizontal plate at the window head, `depth` deep, wider than the window by `depth` each side |
-//! | local-obstruction | an opaque panel (a box 0.1 m thick) between the sensors and the window, as high as blocks the fitted fraction of the window's elevation span seen from them |
+//! | overhang | a horizontal plate `above` the window head, `depth` deep, wider than the window by `overrun` each side |
+//! | local-obstruction | an opaque box standing on the floor along the fitted plan segment, as thick and as high as fitted (plastic, reflectance 0.5); the older `FRACTION,ID+ID` form: a box 0.1 m thick between the sensors and the window, as high as blocks that fraction of the window's elevation span seen from them |
 //! | tint | a `spectrum` pattern (the fitted transmittance shape and level) on every `glass` material |
 //! | sensor-fault | nothing in the model (comment only); the readings are divided by the factors ([`correct_readings`]) |
 //!
@@ -146,6 +146,7 @@ pub fn apply(
                 window,
                 depth,
                 above,
+                overrun,
             } => {
                 let w = room.windows.get(*window).ok_or_else(|| {
                     Error::Usage("overhang: the model has no window (glass polygon)".into())
@@ -160,7 +161,7 @@ pub fn apply(
                         w.head + above,
                     ]
                 };
-                let (u0, u1) = (w.span.0 - depth, w.span.1 + depth);
+                let (u0, u1) = (w.span.0 - overrun, w.span.1 + overrun);
                 let v = vec![
                     p(u0, 0.001),
                     p(u1, 0.001),
@@ -175,15 +176,27 @@ pub fn apply(
                     polygon(v),
                 )?;
             }
-            Effect::LocalObstruction {
-                sensors: group,
-                fraction,
-            } => {
-                let (m, v) = local_box(room, sensors, group, *fraction)?;
+            Effect::LocalObstruction { .. } | Effect::Furniture { .. } => {
+                if let Effect::LocalObstruction {
+                    sensors: g,
+                    fraction,
+                } = e
+                {
+                    // The reason it cannot be placed (no sensors, no window).
+                    local_panel(room, sensors, g, *fraction)?;
+                }
+                let slab = super::effects::local::slab_in(e, room, sensors).ok_or_else(|| {
+                    Error::Usage("local-obstruction: the model has no window".into())
+                })?;
                 let mat = format!("rcalib_local_mat_{k}");
-                add(&mut s, &mut added, "void", mat.clone(), plastic(0.5))?;
-                let _ = m;
-                for (i, face) in v.into_iter().enumerate() {
+                add(
+                    &mut s,
+                    &mut added,
+                    "void",
+                    mat.clone(),
+                    plastic(super::effects::local::REFLECTANCE),
+                )?;
+                for (i, face) in slab.faces().into_iter().enumerate() {
                     add(
                         &mut s,
                         &mut added,
@@ -336,93 +349,6 @@ pub fn local_panel(
         d,
         top,
     })
-}
-
-impl Panel {
-    /// The lowest height at which the ray from `org` along `dir` crosses the panel's
-    /// footprint (the box reaches the floor, so the ray is blocked when this is below
-    /// `top`); `None` when it misses the footprint.
-    pub fn lowest_crossing(
-        &self,
-        w: &super::room::Window,
-        org: [f64; 3],
-        dir: [f64; 3],
-    ) -> Option<f64> {
-        let (dd, uu) = (w.depth_of(org), dot(org, w.tangent));
-        // depth(t) = dd - c t, u(t) = uu + k t.
-        let (c, k) = (dot(dir, w.outward), dot(dir, w.tangent));
-        let slab = |x0: f64, rate: f64, lo: f64, hi: f64| -> Option<(f64, f64)> {
-            if rate.abs() < 1e-12 {
-                return (lo..=hi).contains(&x0).then_some((0.0, f64::INFINITY));
-            }
-            let (t1, t2) = ((lo - x0) / rate, (hi - x0) / rate);
-            Some((t1.min(t2), t1.max(t2)))
-        };
-        let (a0, a1) = slab(dd, -c, self.d.0, self.d.1)?;
-        let (b0, b1) = slab(uu, k, self.u.0, self.u.1)?;
-        let (t0, t1) = (a0.max(b0).max(0.0), a1.min(b1));
-        if t1 < t0 {
-            return None;
-        }
-        let z = |t: f64| org[2] + dir[2] * t;
-        Some(if dir[2] >= 0.0 { z(t0) } else { z(t1) })
-    }
-
-    fn faces(&self, w: &super::room::Window) -> Vec<Vec<[f64; 3]>> {
-        let cu = dot(w.centroid, w.tangent);
-        let p = |u: f64, d: f64, z: f64| {
-            [
-                w.centroid[0] + w.tangent[0] * (u - cu) - w.outward[0] * d,
-                w.centroid[1] + w.tangent[1] * (u - cu) - w.outward[1] * d,
-                z,
-            ]
-        };
-        let ((u0, u1), (d0, d1), top) = (self.u, self.d, self.top);
-        vec![
-            vec![
-                p(u0, d0, 0.0),
-                p(u0, d0, top),
-                p(u1, d0, top),
-                p(u1, d0, 0.0),
-            ],
-            vec![
-                p(u0, d1, 0.0),
-                p(u1, d1, 0.0),
-                p(u1, d1, top),
-                p(u0, d1, top),
-            ],
-            vec![
-                p(u0, d0, top),
-                p(u0, d1, top),
-                p(u1, d1, top),
-                p(u1, d0, top),
-            ],
-            vec![
-                p(u0, d0, 0.0),
-                p(u0, d1, 0.0),
-                p(u0, d1, top),
-                p(u0, d0, top),
-            ],
-            vec![
-                p(u1, d0, 0.0),
-                p(u1, d0, top),
-                p(u1, d1, top),
-                p(u1, d1, 0.0),
-            ],
-        ]
-    }
-}
-
-/// Faces of the panel of [`local_panel`].
-fn local_box(
-    room: &Room,
-    sensors: &[Sensor],
-    group: &[usize],
-    fraction: f64,
-) -> Result<(usize, Vec<Vec<[f64; 3]>>)> {
-    let panel = local_panel(room, sensors, group, fraction)?;
-    let w = &room.windows[panel.window];
-    Ok((panel.window, panel.faces(w)))
 }
 
 /// Readings with the sensor-fault factors divided out (other effects leave them alone).

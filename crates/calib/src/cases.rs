@@ -689,6 +689,7 @@ pub fn hidden_effects(kind: RoomKind) -> Vec<(String, Vec<Effect>)> {
                 window: 0,
                 depth: 1.2,
                 above: 0.0,
+                overrun: 1.2,
             }],
         ),
         (
@@ -746,6 +747,9 @@ pub struct Outcome {
     /// Families selected by explain, in order.
     pub selected: Vec<String>,
     pub specs: Vec<String>,
+    /// The selected effects as the coefficient model fitted them, before the refinement
+    /// against re-simulation (how far the refinement had to move them).
+    pub unrefined: Vec<String>,
     /// Single-effect ranking, best first.
     pub ranking: Vec<String>,
     /// Single effect: ranked first and selected first; combined: every hidden family
@@ -817,6 +821,7 @@ pub fn evaluate(case: &Case, opts: &Options, sigma_sensor: f64) -> Result<Outcom
     let m = case.model(&case.model_text, &with_refl)?;
     let model = case.model_scene()?;
     let ex = super::explain::explain(&m, &[], sigma_sensor);
+    let unrefined = ex.specs.clone();
     let ex = super::explain::refined(&m, ex, sigma_sensor, REFINE_ROUNDS, &|e| {
         super::explain::simulate_applied(&model, &m, &case.weather, &case.readings, opts, e)
     })?;
@@ -912,6 +917,7 @@ pub fn evaluate(case: &Case, opts: &Options, sigma_sensor: f64) -> Result<Outcom
         hidden,
         selected,
         specs: ex.specs.clone(),
+        unrefined,
         ranking,
         hit,
         rmse_before: ex.base.rmse_rel,

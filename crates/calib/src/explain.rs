@@ -387,7 +387,7 @@ pub fn refine(m: &Model, ex: &Explanation, exact: &[f64], sigma_sensor: f64) -> 
         return ex.clone();
     }
     // The factor on the inter-reflected part that turns the prediction into the
-    // re-simulation: exact = cal tau (ind k + local dir) (see Model::finish).
+    // re-simulation: exact = cal tau (ind k local_ind + local dir) (see Model::finish).
     let w = m.weights(&chosen);
     let parts = m.parts(&w);
     let corr: Vec<f64> = m
@@ -397,6 +397,7 @@ pub fn refine(m: &Model, ex: &Explanation, exact: &[f64], sigma_sensor: f64) -> 
         .zip(exact)
         .map(|((o, &(ind, dir)), x)| {
             let scale = w.cal[o.sensor] * w.tau;
+            let ind = ind * w.local_ind[o.sensor];
             let k = (x / scale - w.local[o.sensor] * dir) / ind;
             if scale > 0.0 && ind > 1e-9 && k.is_finite() {
                 k.clamp(0.2, 5.0)
@@ -410,7 +411,10 @@ pub fn refine(m: &Model, ex: &Explanation, exact: &[f64], sigma_sensor: f64) -> 
         for i in 0..chosen.len() {
             let fam = chosen[i].family();
             let others = without(&chosen, fam);
-            if let Some(e) = fit_family(&f, &others, fam) {
+            // A furniture panel moves from where it is (see effects::local::refit).
+            if let Some(e) = effects::local::refit(&f, &others, &chosen[i])
+                .or_else(|| fit_family(&f, &others, fam))
+            {
                 chosen[i] = e;
             }
         }

@@ -44,6 +44,8 @@ pub struct Model {
     pub obs: Vec<Bound>,
     /// The sky cells the exterior obstruction blocks, computed on first use.
     pub horizon: std::sync::OnceLock<effects::obstruction::Horizon>,
+    /// The same cells listed per sensor for the furniture panel, computed on first use.
+    pub sight: std::sync::OnceLock<effects::local::Sight>,
 }
 
 /// The light an exterior obstruction's facade sends towards the room in place of the sky
@@ -76,6 +78,9 @@ pub struct Weights {
     pub sun_win_dir: Option<Vec<f64>>,
     /// Per sensor: direct light left by a local obstruction.
     pub local: Vec<f64>,
+    /// Per sensor: inter-reflected light left by a local obstruction (the part of the
+    /// room it hides from the sensor, less what its own face sends back).
+    pub local_ind: Vec<f64>,
     /// What an exterior obstruction sends back in place of the sky it hides.
     pub fill: Option<Fill>,
     pub tau: f64,
@@ -157,7 +162,13 @@ impl Model {
             patches,
             obs,
             horizon: std::sync::OnceLock::new(),
+            sight: std::sync::OnceLock::new(),
         })
+    }
+
+    /// Per sensor, the sky cells it sees through a window (built on first use).
+    pub fn sight(&self) -> &effects::local::Sight {
+        self.sight.get_or_init(|| effects::local::Sight::new(self))
     }
 
     /// The sky cells of [`effects::obstruction::Horizon`] (built on first use).
@@ -184,6 +195,7 @@ impl Model {
             sun_win_ind: vec![1.0; nt],
             sun_win_dir: None,
             local: vec![1.0; ns],
+            local_ind: vec![1.0; ns],
             fill: None,
             tau: 1.0,
             cal: vec![1.0; ns],
@@ -217,7 +229,9 @@ impl Model {
                 // ground's material, so the fitted model must not scale it either.
             }
             Effect::Overhang { .. } => effects::overhang::apply(e, self, w),
-            Effect::LocalObstruction { .. } => effects::local::apply(e, self, w),
+            Effect::LocalObstruction { .. } | Effect::Furniture { .. } => {
+                effects::local::apply(e, self, w)
+            }
             Effect::SensorFault { factors } => {
                 for &(s, f) in factors {
                     if let Some(c) = w.cal.get_mut(s) {
@@ -275,7 +289,9 @@ impl Model {
             .iter()
             .zip(parts)
             .map(|(o, &(ind, dir))| {
-                w.cal[o.sensor] * w.tau * (ind + w.local[o.sensor] * dir).max(0.0)
+                w.cal[o.sensor]
+                    * w.tau
+                    * (ind * w.local_ind[o.sensor] + w.local[o.sensor] * dir).max(0.0)
             })
             .collect()
     }

@@ -128,6 +128,13 @@ pub struct Room {
     /// Mean transmissivity and refractive index of the windows' glass (0.96, 1.52 if none).
     pub glass_tn: f64,
     pub glass_index: f64,
+    /// Height of the floor (the lowest of the polygons of [`Room::outline`]; 0 without
+    /// one): where added furniture stands.
+    pub floor: f64,
+    /// Mean diffuse reflectance of the ground-class materials (0 without an exterior
+    /// ground): the share of a sky patch's light that reaches the windows off the ground,
+    /// which an overhang does not block.
+    pub ground_reflectance: f64,
 }
 
 impl Room {
@@ -225,13 +232,35 @@ impl Room {
                 }
             }
         }
-        let outline = floor_outline(scene, inside, &materials);
+        let (outline, floor) = floor_outline(scene, inside, &materials);
+        let grounds: Vec<f64> = scene
+            .objects
+            .iter()
+            .filter(|o| {
+                materials
+                    .iter()
+                    .any(|(id, c)| *c == SurfaceClass::Ground && *id == o.id)
+            })
+            .filter_map(|o| match &o.kind {
+                Primitive::Plastic { color, .. } | Primitive::Metal { color, .. } => {
+                    Some(color.iter().sum::<f64>() / color.len().max(1) as f64)
+                }
+                _ => None,
+            })
+            .collect();
+        let ground_reflectance = if grounds.is_empty() {
+            0.0
+        } else {
+            grounds.iter().sum::<f64>() / grounds.len() as f64
+        };
         Room {
             windows,
             outline,
             materials,
             glass_tn,
             glass_index,
+            floor,
+            ground_reflectance,
         }
     }
 
@@ -260,7 +289,7 @@ fn floor_outline(
     scene: &Scene,
     inside: [f64; 3],
     materials: &[(String, SurfaceClass)],
-) -> Vec<[f64; 4]> {
+) -> (Vec<[f64; 4]>, f64) {
     let polys: Vec<&Vec<[f64; 3]>> = scene
         .surfaces()
         .filter_map(|(i, o)| match &o.kind {
@@ -304,6 +333,8 @@ fn floor_outline(
     } else {
         polys
     };
+    let floor = polys.iter().map(|v| v[0][2]).fold(f64::INFINITY, f64::min);
+    let floor = if floor.is_finite() { floor } else { 0.0 };
     // Edges keyed by their end points to the millimetre, either direction.
     type Point = (i64, i64);
     let key = |a: [f64; 3]| -> Point {
@@ -339,7 +370,7 @@ fn floor_outline(
             .map(|(x, y)| x.total_cmp(y))
             .fold(std::cmp::Ordering::Equal, |o, c| o.then(c))
     });
-    edges
+    (edges, floor)
 }
 
 /// A copy of `scene` with the diffuse colour of every material of `class` times `k`

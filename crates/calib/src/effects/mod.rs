@@ -10,7 +10,7 @@
 //! | [`obstruction`] | horizon sector: azimuth, half width, altitude | sky patches and suns behind it | low-sky and low-sun hours, sky-view dependent |
 //! | [`reflectance`] | scale per surface class (walls, ceiling, floor, ground) | inter-reflected light (re-weighted coefficients) | grows with depth / with ground-lit ceiling |
 //! | [`overhang`] | depth above a window head | high patches and high suns, per sensor | sun hours near the window |
-//! | [`local`] | blocked fraction of the direct light at a group of sensors | direct sky and sun at those sensors | a few neighbouring sensors, sun hours |
+//! | [`local`] | a vertical panel on the floor: plan segment, top height (parallel to a window wall or across the room) | sky cells and sun each sensor sees past it, the room it hides from them | a few neighbouring sensors, varying with the sun and the sky |
 //! | [`sensor`] | calibration factor per faulty sensor | one sensor's readings | constant ratio at one sensor |
 //! | [`tint`] | glazing level, spectral slope and curvature | the window's light per wavelength | channel ratios (spectral readings only) |
 //!
@@ -45,14 +45,26 @@ pub enum Effect {
     /// Reflectance of a surface class times `scale`.
     Reflectance { class: SurfaceClass, scale: f64 },
     /// A horizontal overhang `depth` metres deep, `above` metres above the head of window
-    /// `window` (index into the room's windows).
+    /// `window` (index into the room's windows), running `overrun` metres past the
+    /// opening's sides.
     Overhang {
         window: usize,
         depth: f64,
         above: f64,
+        overrun: f64,
     },
-    /// `fraction` of the direct light (sky and sun) blocked at `sensors` (indices).
+    /// `fraction` of the direct light (sky and sun) blocked at `sensors` (indices): the
+    /// earlier form, written as the panel [`crate::apply::local_panel`] builds.
     LocalObstruction { sensors: Vec<usize>, fraction: f64 },
+    /// A vertical opaque panel (furniture, a partition) standing on the floor along the
+    /// plan segment `a`-`b` (x, y of its centre line), `thick` metres thick, up to height
+    /// `top` ([`local`]).
+    Furniture {
+        a: [f64; 2],
+        b: [f64; 2],
+        top: f64,
+        thick: f64,
+    },
     /// Readings of `sensor` are `factor` times the true illuminance.
     SensorFault { factors: Vec<(usize, f64)> },
     /// Glazing transmittance times `scale` with a spectral shape ([`tint`]).
@@ -80,6 +92,9 @@ pub const FAMILIES: [&str; 9] = [
 /// window only from beyond 3 m of depth, which the fit does not search.
 pub const MAX_ABOVE: f64 = 2.0;
 
+/// Farthest an overhang may run past its window's sides (m).
+pub const MAX_OVERRUN: f64 = 5.0;
+
 /// Largest transmittance or reflectance scale `--effect` takes: a material of reflectance
 /// 0.095 (the darkest a room has) reaches the 0.95 cap at 10.
 pub const MAX_SCALE: f64 = 10.0;
@@ -97,7 +112,7 @@ impl Effect {
                 SurfaceClass::Ground => "ground-albedo",
             },
             Effect::Overhang { .. } => "overhang",
-            Effect::LocalObstruction { .. } => "local-obstruction",
+            Effect::LocalObstruction { .. } | Effect::Furniture { .. } => "local-obstruction",
             Effect::SensorFault { .. } => "sensor-fault",
             Effect::Tint { .. } => "tint",
         }
@@ -109,8 +124,14 @@ impl Effect {
         match self {
             Effect::Transmittance { .. } | Effect::Reflectance { .. } => 1,
             Effect::Obstruction { .. } => 3,
-            Effect::Overhang { .. } => 3,
+            // Window, depth, height, overrun.
+            Effect::Overhang { .. } => 4,
             Effect::LocalObstruction { .. } => 3,
+            // Position, two ends, top, and the wall / orientation searched.
+            Effect::Furniture { .. } => 5,
+            // One per flagged sensor: ln(n) already outweighs what a factor removes at a
+            // sensor within the calibration spread (effects::sensor's tests), while a
+            // second per sensor would hide a 20 % fault from the significance threshold.
             Effect::SensorFault { factors } => factors.len(),
             Effect::Tint { .. } => 3,
         }
@@ -124,6 +145,7 @@ impl Effect {
             Effect::Reflectance { scale, .. } => ("scale", *scale),
             Effect::Overhang { depth, .. } => ("depth_m", *depth),
             Effect::LocalObstruction { fraction, .. } => ("fraction", *fraction),
+            Effect::Furniture { top, .. } => ("top_m", *top),
             Effect::SensorFault { factors } => ("factor", factors.first().map_or(1.0, |f| f.1)),
             Effect::Tint { scale, .. } => ("scale", *scale),
         }
@@ -139,6 +161,7 @@ impl Effect {
             Effect::Obstruction { altitude, .. } => *altitude = v,
             Effect::Overhang { depth, .. } => *depth = v,
             Effect::LocalObstruction { fraction, .. } => *fraction = v,
+            Effect::Furniture { top, .. } => *top = v,
             Effect::SensorFault { factors } => {
                 if let Some(f) = factors.first_mut() {
                     f.1 = v
@@ -163,13 +186,18 @@ impl Effect {
                 window,
                 depth,
                 above,
+                overrun,
             } => format!(
-                "overhang:{depth:.2},{},{above:.2}",
+                "overhang:{depth:.2},{},{above:.2},{overrun:.2}",
                 window_ids.get(*window).cloned().unwrap_or_default()
             ),
             Effect::LocalObstruction { sensors, fraction } => format!(
                 "local-obstruction:{fraction:.2},{}",
                 sensors.iter().map(sid).collect::<Vec<_>>().join("+")
+            ),
+            Effect::Furniture { a, b, top, thick } => format!(
+                "local-obstruction:{:.2},{:.2},{:.2},{:.2},{top:.2},{thick:.2}",
+                a[0], a[1], b[0], b[1]
             ),
             Effect::SensorFault { factors } => format!(
                 "sensor-fault:{}",
@@ -206,13 +234,19 @@ impl Effect {
                 window,
                 depth,
                 above,
+                overrun,
             } => format!(
-                "depth = {depth:.2} m, window = {}, above head = {above:.2} m",
+                "depth = {depth:.2} m, window = {}, above head = {above:.2} m, \
+                 past each side = {overrun:.2} m",
                 window_ids.get(*window).cloned().unwrap_or_default()
             ),
             Effect::LocalObstruction { sensors, fraction } => format!(
                 "fraction blocked = {fraction:.2}, sensors = {}",
                 sensors.iter().map(sid).collect::<Vec<_>>().join(", ")
+            ),
+            Effect::Furniture { a, b, top, thick } => format!(
+                "from ({:.2}, {:.2}) to ({:.2}, {:.2}) m, top = {top:.2} m, thickness = {thick:.2} m",
+                a[0], a[1], b[0], b[1]
             ),
             Effect::SensorFault { factors } => factors
                 .iter()
@@ -234,7 +268,8 @@ impl Effect {
             Error::Usage(format!(
                 "--effect '{spec}': {what}; expected one of transmittance:SCALE, \
                  obstruction:AZIMUTH,HALF_WIDTH,ALTITUDE, walls|ceiling|floor|ground-albedo:SCALE, \
-                 overhang:DEPTH[,WINDOW], local-obstruction:FRACTION,ID+ID, sensor-fault:ID=F+ID=F, \
+                 overhang:DEPTH[,WINDOW[,ABOVE[,OVERRUN]]], local-obstruction:X0,Y0,X1,Y1,TOP[,THICK] \
+                 (or the older FRACTION,ID+ID), sensor-fault:ID=F+ID=F, \
                  tint:SCALE,SLOPE,CURVATURE"
             ))
         };
@@ -295,13 +330,24 @@ impl Effect {
                 _ => return Err(bad("expected AZIMUTH,HALF_WIDTH>0,ALTITUDE 0..90")),
             },
             "overhang" => {
-                let mut parts = params.splitn(3, ',');
+                let mut parts = params.splitn(4, ',');
                 let d = parts.next().unwrap_or_default();
                 let w = parts.next().unwrap_or_default();
                 let above = match parts.next() {
                     Some(a) => one(a)?,
                     None => 0.0,
                 };
+                let depth = one(d)?;
+                // Without it, as deep as the plate (the earlier form's width).
+                let overrun = match parts.next() {
+                    Some(o) => one(o)?,
+                    None => depth,
+                };
+                if overrun > MAX_OVERRUN {
+                    return Err(bad(&format!(
+                        "overrun past the window's sides over {MAX_OVERRUN} m"
+                    )));
+                }
                 if above > MAX_ABOVE {
                     return Err(bad(&format!(
                         "height above the window head over {MAX_ABOVE} m"
@@ -317,8 +363,32 @@ impl Effect {
                 };
                 Effect::Overhang {
                     window,
-                    depth: one(d)?,
+                    depth,
                     above,
+                    overrun,
+                }
+            }
+            "local-obstruction" if !params.contains('+') && params.split(',').count() >= 5 => {
+                match nums(params)?.as_slice() {
+                    [x0, y0, x1, y1, top, rest @ ..]
+                        if rest.len() <= 1
+                            && rest.iter().all(|t| *t > 0.0 && *t <= 5.0)
+                            && *top > 0.0
+                            && (x1 - x0).hypot(y1 - y0) > 1e-3 =>
+                    {
+                        Effect::Furniture {
+                            a: [*x0, *y0],
+                            b: [*x1, *y1],
+                            top: *top,
+                            thick: rest.first().copied().unwrap_or(local::THICK),
+                        }
+                    }
+                    _ => {
+                        return Err(bad(
+                            "expected X0,Y0,X1,Y1,TOP[,THICK]: a plan segment of non-zero \
+                             length, TOP > 0, 0 < THICK <= 5 (metres)",
+                        ));
+                    }
                 }
             }
             "local-obstruction" => {
@@ -380,14 +450,25 @@ impl Effect {
                 window,
                 depth,
                 above,
+                overrun,
             } => format!(
-                "overhang {depth:.2} m deep, {above:.2} m above the head of window '{}'",
+                "overhang {depth:.2} m deep, {above:.2} m above the head of window '{}', \
+                 running {overrun:.2} m past each side",
                 window_ids.get(*window).cloned().unwrap_or_default()
             ),
             Effect::LocalObstruction { sensors, fraction } => format!(
                 "local obstruction blocking {:.0} % of the direct light at sensors {}",
                 100.0 * fraction,
                 sensors.iter().map(sid).collect::<Vec<_>>().join(", ")
+            ),
+            Effect::Furniture { a, b, top, .. } => format!(
+                "local obstruction (furniture, a partition): a panel {:.1} m long and {top:.2} m \
+                 high from ({:.1}, {:.1}) to ({:.1}, {:.1})",
+                (b[0] - a[0]).hypot(b[1] - a[1]),
+                a[0],
+                a[1],
+                b[0],
+                b[1]
             ),
             Effect::SensorFault { factors } => format!(
                 "sensor calibration: {}",

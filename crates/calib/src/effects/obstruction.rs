@@ -180,6 +180,20 @@ impl Horizon {
         (den > 0.0).then(|| num / den)
     }
 
+    /// The cells of patch `p` that sensor `s` sees through a window, as (direction,
+    /// weight) pairs (the terms of [`Horizon::direct_mean`]); empty when it sees none.
+    pub fn direct_cells(&self, s: usize, p: usize) -> Vec<([f64; 3], f64)> {
+        let (Some(Some(c)), Some(w)) = (self.cells.get(p), self.dir.get(s).and_then(|d| d.get(p)))
+        else {
+            return Vec::new();
+        };
+        w.iter()
+            .enumerate()
+            .filter(|(_, x)| **x > 0.0)
+            .map(|(k, x)| (c.centre(k / CELLS, k % CELLS), *x))
+            .collect()
+    }
+
     /// Per patch: the blocked share of each cell row (altitude) and column (azimuth).
     fn overlaps(
         &self,

@@ -81,7 +81,7 @@ pub fn fit(f: &Fitter, base: &[Effect]) -> Option<Effect> {
             .zip(&f.m.obs)
             .map(|(y, o)| y * w.cal[o.sensor])
             .collect();
-        let bic = f.score_sim(&sim2).bic(trial.len());
+        let bic = f.score_sim(&sim2).bic(e.n_params());
         if bic >= best - 2.0 || trial.len() > ns / 2 {
             break;
         }
@@ -89,4 +89,66 @@ pub fn fit(f: &Fitter, base: &[Effect]) -> Option<Effect> {
         factors = trial;
     }
     (!factors.is_empty()).then_some(Effect::SensorFault { factors })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::score::score;
+    use rand::{Rng, SeedableRng};
+
+    fn normal(rng: &mut rand_pcg::Pcg64) -> f64 {
+        let (u, v): (f64, f64) = (rng.random::<f64>().max(1e-12), rng.random());
+        (-2.0 * u.ln()).sqrt() * (2.0 * std::f64::consts::PI * v).cos()
+    }
+
+    /// The BIC of a fault on one sensor, with and without it, for 12 sensors x 18 readings
+    /// (the independent cases' size) with 3 % calibration spread and 2 % reading noise,
+    /// sensor 0 offset by `offset` (log ratio).
+    fn bic_with_and_without(offset: f64, seed: u64) -> (f64, f64) {
+        let mut rng = rand_pcg::Pcg64::seed_from_u64(seed);
+        let (ns, nt) = (12, 18);
+        let (mut meas, mut sens) = (Vec::new(), Vec::new());
+        for s in 0..ns {
+            let off = if s == 0 {
+                offset
+            } else {
+                0.03 * normal(&mut rng)
+            };
+            for _ in 0..nt {
+                meas.push(1000.0 * (off + 0.02 * normal(&mut rng)).exp());
+                sens.push(s);
+            }
+        }
+        let sim = vec![1000.0; ns * nt];
+        let mean0 = meas[..nt].iter().map(|m| (m / 1000.0).ln()).sum::<f64>() / nt as f64;
+        let fixed: Vec<f64> = sim
+            .iter()
+            .zip(&sens)
+            .map(|(y, s)| if *s == 0 { y * mean0.exp() } else { *y })
+            .collect();
+        let fault = Effect::SensorFault {
+            factors: vec![(0, mean0.exp())],
+        };
+        let sigma = crate::score::DEFAULT_SENSOR_SIGMA;
+        (
+            score(&fixed, &meas, &sens, ns, sigma).bic(fault.n_params()),
+            score(&sim, &meas, &sens, ns, sigma).bic(0),
+        )
+    }
+
+    #[test]
+    fn a_fault_at_the_noise_level_costs_more_than_it_gains() {
+        // A sensor within twice the calibration spread: flagging it never pays, over many
+        // draws of the noise.
+        for seed in 0..20 {
+            let (with, without) = bic_with_and_without(0.06, seed);
+            assert!(with > without, "seed {seed}: {with} vs {without}");
+        }
+        // A real fault (reads x0.8, as in the fault-corner case) pays by far.
+        for seed in 0..20 {
+            let (with, without) = bic_with_and_without(0.8f64.ln(), seed);
+            assert!(with < without - crate::score::SIGNIFICANT, "seed {seed}");
+        }
+    }
 }
