@@ -249,6 +249,112 @@ fn sampling_matches_evaluation_and_conserves_energy() {
     let _ = ShadingOptions::rtrace();
 }
 
+/// A pattern on a BSDF material (Radiance's `r->pcol`) multiplies everything but the
+/// non-diffuse reflection (`m_bsdf.c`). Under a black pattern: no transmission at all,
+/// evaluated or sampled; the reflection loses exactly a direction-independent (Lambertian)
+/// part, and keeps a directional one. Under a coloured pattern the transmission is the
+/// unpatterned one times the pattern, channel by channel, and sampling still matches
+/// evaluation.
+#[test]
+fn patterns_multiply_all_but_non_diffuse_reflection() {
+    use rand::{Rng, SeedableRng};
+    use rdaylight::material::Color;
+    let ch = Channels::rgb();
+    let loc = rdaylight::Location::line(data("x.rad").to_str().unwrap(), 1);
+    let mut rng = rand_pcg::Pcg64::seed_from_u64(5);
+    let strings: Vec<String> = ["0", "blinds45.xml", "0", "0", "1", "."]
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
+    // An extra front diffuse reflectance 0.05: a pattern multiplies it too.
+    let b = build_material(false, &strings, &[0.05, 0.05, 0.05], &loc, "m", 0.0, &ch).unwrap();
+    let black = b.with_pattern(Some(Color::black(3)));
+    let tint = [0.2f32, 0.5, 0.9];
+    let tinted = b.with_pattern(Some(Color::from_slice(&tint)));
+    let s = Surface::flat([0.0, 1.0, 0.0]);
+    let omega = 1e-3;
+    for wo in [[0.0f64, 1.0, 0.0], [0.4, 0.7, 0.3], [0.2, -0.8, 0.4]] {
+        let n: f64 = (wo[0] * wo[0] + wo[1] * wo[1] + wo[2] * wo[2]).sqrt();
+        let wo = [wo[0] / n, wo[1] / n, wo[2] / n];
+        let front = wo[1] > 0.0;
+        let (mut removed, mut kept) = (Vec::new(), Vec::new());
+        for _ in 0..2000 {
+            let z: f64 = 2.0 * rng.random::<f64>() - 1.0;
+            let phi = 2.0 * std::f64::consts::PI * rng.random::<f64>();
+            let r = (1.0 - z * z).sqrt();
+            let wi = [r * phi.cos(), z, r * phi.sin()];
+            let cos = wi[1].abs();
+            let full = b.eval_direct(wo, wi, &s, omega);
+            let none = black.eval_direct(wo, wi, &s, omega);
+            let col = tinted.eval_direct(wo, wi, &s, omega);
+            if (wi[1] > 0.0) != front {
+                assert!(
+                    none.is_black(),
+                    "{wo:?} {wi:?}: transmission under black {none:?}"
+                );
+                for c in 0..3 {
+                    let (f, t) = (full.as_slice()[c], col.as_slice()[c]);
+                    assert!(
+                        (t - f * tint[c]).abs() <= 1e-6 * f.max(1e-9),
+                        "{t} vs {f} x {}",
+                        tint[c]
+                    );
+                }
+            } else {
+                // (full - black) / (cos omega): the part the pattern removed, per unit
+                // projected solid angle: the same for every light direction.
+                removed.push((full.as_slice()[1] - none.as_slice()[1]) as f64 / (cos * omega));
+                kept.push(none.as_slice()[1] as f64 / (cos * omega));
+            }
+        }
+        let (lo, hi) = removed
+            .iter()
+            .fold((f64::INFINITY, 0f64), |(a, b), &x| (a.min(x), b.max(x)));
+        assert!(
+            lo > 0.05 / std::f64::consts::PI * 0.99 || !front,
+            "{wo:?}: removed {lo}"
+        );
+        assert!(
+            hi - lo <= 1e-4 * hi.max(1e-6),
+            "{wo:?}: removed part varies {lo}..{hi}"
+        );
+        let (klo, khi) = kept
+            .iter()
+            .fold((f64::INFINITY, 0f64), |(a, b), &x| (a.min(x), b.max(x)));
+        assert!(
+            khi > 2.0 * klo.max(1e-9),
+            "{wo:?}: kept reflection {klo}..{khi} is not directional"
+        );
+        // Sampling under the black pattern: transmitted samples carry nothing, and the
+        // reflected ones carry what evaluation integrates.
+        let m = 200_000;
+        let (mut sr, mut er) = (0.0, 0.0);
+        for _ in 0..m {
+            if let Some(smp) = black.sample(wo, &s, rng.random(), rng.random(), rng.random()) {
+                let y = smp.weight.as_slice()[1] as f64;
+                if smp.kind.is_transmission() {
+                    assert_eq!(y, 0.0, "{wo:?}: transmitted sample under a black pattern");
+                } else {
+                    sr += y;
+                }
+            }
+            let z: f64 = 2.0 * rng.random::<f64>() - 1.0;
+            let phi = 2.0 * std::f64::consts::PI * rng.random::<f64>();
+            let r = (1.0 - z * z).sqrt();
+            let wi = [r * phi.cos(), z, r * phi.sin()];
+            er += black
+                .eval_direct(wo, wi, &s, 4.0 * std::f64::consts::PI)
+                .as_slice()[1] as f64;
+        }
+        let (sr, er) = (sr / m as f64, er / m as f64);
+        eprintln!("pattern black, wo {wo:.2?}: reflection sampled {sr:.4}, evaluated {er:.4}");
+        assert!(
+            (sr - er).abs() <= 0.03 * er + 2e-3,
+            "{wo:?}: sampled {sr} vs evaluated {er}"
+        );
+    }
+}
+
 /// Work-plane and vertical sensors of `room.rad`.
 const ROOM_SENSORS: &str = "2 1 .8 0 0 1\n2 2.5 .8 0 0 1\n2 4 .8 0 0 1\n1 2.5 .8 0 0 1\n3 2.5 .8 0 0 1\n2 2.5 1.5 0 -1 0\n";
 
@@ -263,6 +369,14 @@ fn room_with(dir: &std::path::Path, xml: &str) -> std::path::PathBuf {
 }
 
 fn numbers(bytes: &[u8], per_line: usize) -> Vec<f64> {
+    rgb_numbers(bytes, per_line)
+        .into_iter()
+        .map(photopic)
+        .collect()
+}
+
+/// The first three values of each non-empty line.
+fn rgb_numbers(bytes: &[u8], per_line: usize) -> Vec<[f64; 3]> {
     String::from_utf8(bytes.to_vec())
         .unwrap()
         .lines()
@@ -270,7 +384,7 @@ fn numbers(bytes: &[u8], per_line: usize) -> Vec<f64> {
         .map(|l| {
             let v: Vec<f64> = l.split_whitespace().map(|w| w.parse().unwrap()).collect();
             assert_eq!(v.len(), per_line, "{l}");
-            photopic([v[0], v[1], v[2]])
+            [v[0], v[1], v[2]]
         })
         .collect()
 }
@@ -304,13 +418,54 @@ fn room_irradiance_through_a_tensor_tree_window_agrees_with_rtrace() {
     room_agrees_with_rtrace(&["lobe_tt.xml"]);
 }
 
+/// Patterns on a BSDF window (`m_bsdf.c`: the pattern colour multiplies the diffuse parts
+/// and the transmission, not the non-diffuse reflection): the same room and criterion with
+/// each Klems window modified by a constant `colorfunc` (0.3, 0.6, 0.9) and a `brightfunc`
+/// of the hit point (horizontal stripes of 1 and 0.3, 0.25 m each), red, green and blue
+/// compared separately.
+#[test]
+fn room_through_patterned_klems_windows_agrees_with_rtrace() {
+    if !common::have_radiance("room_through_patterned_klems_windows_agrees_with_rtrace") {
+        return;
+    }
+    room_agrees_with_rtrace_as(&KLEMS, Some(PATTERN));
+}
+
+/// The patterns of the test above (the window material's modifier becomes `stripes`).
+const PATTERN: &str = "void colorfunc tint 4 .3 .6 .9 .\n0\n0\n\
+tint brightfunc stripes 2 stripe stripes.cal\n0\n0\n";
+
 fn room_agrees_with_rtrace(xmls: &[&str]) {
+    room_agrees_with_rtrace_as(xmls, None)
+}
+
+/// `pattern`: scene text defining a modifier `stripes` (and `stripes.cal`) that modifies
+/// the window material; then the channels are compared one by one, else photopic values.
+fn room_agrees_with_rtrace_as(xmls: &[&str], pattern: Option<&str>) {
     let t = common::tmpdir();
     // -st .15 (rtrace's default) on both: matrix parts whose total is at most 0.15 are
     // sampled as diffuse in Radiance (specthresh), so the rule is exercised.
     let opts = ["-ab", "4", "-lw", "1e-5", "-st", ".15"];
     for &xml in xmls {
         let scene = room_with(t.path(), xml);
+        if let Some(p) = pattern {
+            let text = std::fs::read_to_string(&scene).unwrap();
+            let text = text.replace("void BSDF window_mat", "stripes BSDF window_mat");
+            std::fs::write(&scene, format!("{p}{text}")).unwrap();
+            std::fs::write(
+                t.path().join("stripes.cal"),
+                "stripe = if(sin(4 * PI * Pz), 1, .3);\n",
+            )
+            .unwrap();
+        }
+        // The values compared: photopic, or each channel under a coloured pattern.
+        let pick = |v: Vec<[f64; 3]>| -> Vec<f64> {
+            match pattern {
+                None => v.into_iter().map(photopic).collect(),
+                Some(_) => v.into_iter().flatten().collect(),
+            }
+        };
+        let per = if pattern.is_some() { 3 } else { 1 };
         let oct = t.path().join(format!("{xml}.oct"));
         let o = common::run_ok(common::radiance("oconv").arg(&scene), b"");
         std::fs::write(&oct, o).unwrap();
@@ -327,10 +482,10 @@ fn room_agrees_with_rtrace(xmls: &[&str]) {
                     .arg(&oct),
                 input.as_bytes(),
             );
-            runs.push(numbers(&out, 3)[pad..].to_vec());
+            runs.push(pick(rgb_numbers(&out, 3))[per * pad..].to_vec());
         }
         let se_path = t.path().join(format!("{xml}.se"));
-        let ours = numbers(
+        let ours = pick(rgb_numbers(
             &common::run_ok(
                 common::ours("rdc")
                     .current_dir(t.path())
@@ -341,7 +496,7 @@ fn room_agrees_with_rtrace(xmls: &[&str]) {
                 ROOM_SENSORS.as_bytes(),
             ),
             3,
-        );
+        ));
         let se_text = std::fs::read_to_string(&se_path).unwrap();
         let rel_se: Vec<f64> = se_text
             .split("\n\n")
@@ -350,7 +505,10 @@ fn room_agrees_with_rtrace(xmls: &[&str]) {
             .lines()
             .map(|l| l.split_whitespace().next().unwrap().parse().unwrap())
             .collect();
-        assert_eq!((ours.len(), rel_se.len()), (n, n));
+        assert_eq!((ours.len(), rel_se.len()), (n * per, n));
+        // Each channel takes its sensor's relative standard error (ours reports one).
+        let rel_se: Vec<f64> = rel_se.iter().flat_map(|&x| vec![x; per]).collect();
+        let n = n * per;
         let (mut rel, mut cv) = (Vec::new(), Vec::new());
         for s in 0..n {
             let v: Vec<f64> = runs.iter().map(|r| r[s]).collect();
