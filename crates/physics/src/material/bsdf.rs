@@ -561,8 +561,9 @@ const PI_: f64 = std::f64::consts::PI;
 /// A `BSDF` or `aBSDF` material (Radiance `src/rt/m_bsdf.c`, read to learn the behaviour):
 ///
 /// `mod BSDF thick file ux uy uz funcfile [transform] / 0 / 0|3|6|9 rdf gdf bdf rdb gdb bdb
-/// rdt gdt bdt`; `aBSDF` has no `thick`. Here `thick` and `ux uy uz` must be numbers and
-/// `funcfile` `.` (expressions and transforms are refused).
+/// rdt gdt bdt`; `aBSDF` has no `thick`. `thick` and `ux uy uz` are numbers or expressions
+/// of the function file (`.`: none) that do not read the ray (those are refused); the
+/// transform turns the up vector and scales the thickness, as `m_bsdf.c` does.
 ///
 /// - Local frame: `z` = the surface normal (front), `x = normalize(up x N)`, `y = N x x`
 ///   ([`crate::geometry::klems::KlemsFrame`]); an up vector parallel to the normal makes the
@@ -940,36 +941,48 @@ pub fn build_material(
             strings.len()
         )));
     }
-    if strings.len() > need {
-        return Err(unsupported(format!(
-            "transform '{}'",
-            strings[need..].join(" ")
-        )));
-    }
+    // m_bsdf.c's getfunc(m, 5, 0x1d, 1): the thickness and the up vector are expressions
+    // in the context of the function file (`.`: none), and the transform after it turns
+    // the up vector and scales the thickness (`mf->fxp`, the transform as xform applies
+    // it). Expressions that read the ray (Nx, Px, ...) would vary per hit: refused.
+    let funcfile = &strings[k + 4];
+    let program = if funcfile == "." {
+        crate::calc::Program::default()
+    } else {
+        let path = rdaylight_formats::scene::find_file(funcfile, scene_file).ok_or_else(|| {
+            bad(format!("function file '{funcfile}' not found (looked beside the scene file, in the working folder and on RAYPATH)"))
+        })?;
+        crate::calc::Program::load(&path)?
+    };
     let num = |s: &str, what: &str| -> Result<f64> {
-        s.parse::<f64>()
+        if let Some(v) = s.parse::<f64>().ok().filter(|v| v.is_finite()) {
+            return Ok(v);
+        }
+        let e = program.expr(s, &format!("{tname} '{id}' {what}"))?;
+        if program.reads_ray(&e) {
+            return Err(unsupported(format!(
+                "{what} expression '{s}' that depends on the ray"
+            )));
+        }
+        program
+            .eval(&e, crate::calc::Inputs::default())
             .ok()
             .filter(|v| v.is_finite())
-            .ok_or_else(|| unsupported(format!("{what} expression '{s}' (only numbers)")))
+            .ok_or_else(|| bad(format!("has {what} '{s}' that is not a finite number")))
     };
+    let xf = crate::calc::xf::Xf::forward_of(&strings[need..], loc, tname)?;
     let thick = if absdf {
         0.0
     } else {
-        num(&strings[0], "thickness")?
+        num(&strings[0], "thickness")? * xf.sca
     };
     let thick = if thick.abs() <= FTINY { 0.0 } else { thick };
     let file = &strings[k];
-    let up = [
+    let up = xf.vector([
         num(&strings[k + 1], "up x")?,
         num(&strings[k + 2], "up y")?,
         num(&strings[k + 3], "up z")?,
-    ];
-    if strings[k + 4] != "." {
-        return Err(unsupported(format!(
-            "function file '{}' (only '.')",
-            strings[k + 4]
-        )));
-    }
+    ]);
     if reals.len() > 9 || reals.len() % 3 != 0 {
         return Err(bad(format!(
             "has {} real arguments; expected 0, 3, 6 or 9",
