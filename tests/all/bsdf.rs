@@ -254,7 +254,7 @@ fn sampling_matches_evaluation_and_conserves_energy() {
 /// evaluated or sampled; the reflection loses exactly a direction-independent (Lambertian)
 /// part, and keeps a directional one. Under a coloured pattern the transmission is the
 /// unpatterned one times the pattern, channel by channel, and sampling still matches
-/// evaluation.
+/// evaluation. `aBSDF`'s through peak (shadow rays) takes the pattern too.
 #[test]
 fn patterns_multiply_all_but_non_diffuse_reflection() {
     use rand::{Rng, SeedableRng};
@@ -262,6 +262,7 @@ fn patterns_multiply_all_but_non_diffuse_reflection() {
     let ch = Channels::rgb();
     let loc = rdaylight::Location::line(data("x.rad").to_str().unwrap(), 1);
     let mut rng = rand_pcg::Pcg64::seed_from_u64(5);
+    let tint = [0.2f32, 0.5, 0.9];
     let strings: Vec<String> = ["0", "blinds45.xml", "0", "0", "1", "."]
         .iter()
         .map(|s| s.to_string())
@@ -269,9 +270,30 @@ fn patterns_multiply_all_but_non_diffuse_reflection() {
     // An extra front diffuse reflectance 0.05: a pattern multiplies it too.
     let b = build_material(false, &strings, &[0.05, 0.05, 0.05], &loc, "m", 0.0, &ch).unwrap();
     let black = b.with_pattern(Some(Color::black(3)));
-    let tint = [0.2f32, 0.5, 0.9];
     let tinted = b.with_pattern(Some(Color::from_slice(&tint)));
     let s = Surface::flat([0.0, 1.0, 0.0]);
+    // aBSDF's through peak (what shadow rays keep) takes the pattern (compute_through).
+    let shade: Vec<String> = ["shade10.xml", "0", "0", "1", "."]
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
+    let a = build_material(true, &shade, &[], &loc, "a", 0.15, &ch).unwrap();
+    let peak = a
+        .shadow_transmission([0.0, 1.0, 0.0], &s)
+        .expect("the shade's through peak");
+    let tinted_peak = a
+        .with_pattern(Some(Color::from_slice(&tint)))
+        .shadow_transmission([0.0, 1.0, 0.0], &s)
+        .unwrap();
+    for (c, &k) in tint.iter().enumerate() {
+        assert!((tinted_peak.as_slice()[c] - peak.as_slice()[c] * k).abs() <= 1e-7);
+    }
+    let a_black = a.with_pattern(Some(Color::black(3)));
+    assert!(
+        a_black
+            .shadow_transmission([0.0, 1.0, 0.0], &s)
+            .is_none_or(|c| c.is_black())
+    );
     let omega = 1e-3;
     for wo in [[0.0f64, 1.0, 0.0], [0.4, 0.7, 0.3], [0.2, -0.8, 0.4]] {
         let n: f64 = (wo[0] * wo[0] + wo[1] * wo[1] + wo[2] * wo[2]).sqrt();
@@ -292,13 +314,9 @@ fn patterns_multiply_all_but_non_diffuse_reflection() {
                     none.is_black(),
                     "{wo:?} {wi:?}: transmission under black {none:?}"
                 );
-                for c in 0..3 {
+                for (c, &k) in tint.iter().enumerate() {
                     let (f, t) = (full.as_slice()[c], col.as_slice()[c]);
-                    assert!(
-                        (t - f * tint[c]).abs() <= 1e-6 * f.max(1e-9),
-                        "{t} vs {f} x {}",
-                        tint[c]
-                    );
+                    assert!((t - f * k).abs() <= 1e-6 * f.max(1e-9), "{t} vs {f} x {k}");
                 }
             } else {
                 // (full - black) / (cos omega): the part the pattern removed, per unit

@@ -253,7 +253,9 @@ fn five_phase_agrees_with_a_real_radiance_five_phase_run() {
     let term = |f: &dyn Fn(&[f64; 3]) -> f64| -> Vec<Vec<f64>> {
         runs.iter().map(|r| r.iter().map(f).collect()).collect()
     };
-    let checks: [(&str, Vec<f64>, Vec<Vec<f64>>); 3] = [
+    // (what, ours by sensor, Radiance's runs by sensor)
+    type Check<'a> = (&'a str, Vec<f64>, Vec<Vec<f64>>);
+    let checks: [Check; 3] = [
         (
             "five-phase V T D s - Vd T Dd sd + Cds ssun",
             spread(&five),
