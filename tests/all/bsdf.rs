@@ -471,6 +471,18 @@ fn function_file_and_transform_turn_the_up_vector_as_rtrace() {
         err.contains("varying.rad:") && err.contains("depends on the ray"),
         "{err}"
     );
+    // So is one that does not parse, naming the scene line.
+    let broken = variant("broken.rad", "6 0 blinds45.xml 0 0 (1 .");
+    let out = common::run(
+        common::ours("rdc").current_dir(d).args(opts).arg(&broken),
+        ROOM_SENSORS.as_bytes(),
+    );
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("broken.rad:") && err.contains("does not parse"),
+        "{err}"
+    );
 }
 
 /// Work-plane and vertical sensors of `room.rad`.

@@ -958,7 +958,9 @@ pub fn build_material(
         if let Some(v) = s.parse::<f64>().ok().filter(|v| v.is_finite()) {
             return Ok(v);
         }
-        let e = program.expr(s, &format!("{tname} '{id}' {what}"))?;
+        let e = program
+            .expr(s, what)
+            .map_err(|e| bad(format!("has {what} '{s}' that does not parse ({e})")))?;
         if program.reads_ray(&e) {
             return Err(unsupported(format!(
                 "{what} expression '{s}' that depends on the ray"
