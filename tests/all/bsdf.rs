@@ -249,6 +249,242 @@ fn sampling_matches_evaluation_and_conserves_energy() {
     let _ = ShadingOptions::rtrace();
 }
 
+/// A pattern on a BSDF material (Radiance's `r->pcol`) multiplies everything but the
+/// non-diffuse reflection (`m_bsdf.c`). Under a black pattern: no transmission at all,
+/// evaluated or sampled; the reflection loses exactly a direction-independent (Lambertian)
+/// part, and keeps a directional one. Under a coloured pattern the transmission is the
+/// unpatterned one times the pattern, channel by channel, and sampling still matches
+/// evaluation. `aBSDF`'s through peak (shadow rays) takes the pattern too.
+#[test]
+fn patterns_multiply_all_but_non_diffuse_reflection() {
+    use rand::{Rng, SeedableRng};
+    use rdaylight::material::Color;
+    let ch = Channels::rgb();
+    let loc = rdaylight::Location::line(data("x.rad").to_str().unwrap(), 1);
+    let mut rng = rand_pcg::Pcg64::seed_from_u64(5);
+    let tint = [0.2f32, 0.5, 0.9];
+    let strings: Vec<String> = ["0", "blinds45.xml", "0", "0", "1", "."]
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
+    // An extra front diffuse reflectance 0.05: a pattern multiplies it too.
+    let b = build_material(false, &strings, &[0.05, 0.05, 0.05], &loc, "m", 0.0, &ch).unwrap();
+    let black = b.with_pattern(Some(Color::black(3)));
+    let tinted = b.with_pattern(Some(Color::from_slice(&tint)));
+    let s = Surface::flat([0.0, 1.0, 0.0]);
+    // aBSDF's through peak (what shadow rays keep) takes the pattern (compute_through).
+    let shade: Vec<String> = ["shade10.xml", "0", "0", "1", "."]
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
+    let a = build_material(true, &shade, &[], &loc, "a", 0.15, &ch).unwrap();
+    let peak = a
+        .shadow_transmission([0.0, 1.0, 0.0], &s)
+        .expect("the shade's through peak");
+    let tinted_peak = a
+        .with_pattern(Some(Color::from_slice(&tint)))
+        .shadow_transmission([0.0, 1.0, 0.0], &s)
+        .unwrap();
+    for (c, &k) in tint.iter().enumerate() {
+        assert!((tinted_peak.as_slice()[c] - peak.as_slice()[c] * k).abs() <= 1e-7);
+    }
+    let a_black = a.with_pattern(Some(Color::black(3)));
+    assert!(
+        a_black
+            .shadow_transmission([0.0, 1.0, 0.0], &s)
+            .is_none_or(|c| c.is_black())
+    );
+    let omega = 1e-3;
+    for wo in [[0.0f64, 1.0, 0.0], [0.4, 0.7, 0.3], [0.2, -0.8, 0.4]] {
+        let n: f64 = (wo[0] * wo[0] + wo[1] * wo[1] + wo[2] * wo[2]).sqrt();
+        let wo = [wo[0] / n, wo[1] / n, wo[2] / n];
+        let front = wo[1] > 0.0;
+        let (mut removed, mut kept) = (Vec::new(), Vec::new());
+        for _ in 0..2000 {
+            let z: f64 = 2.0 * rng.random::<f64>() - 1.0;
+            let phi = 2.0 * std::f64::consts::PI * rng.random::<f64>();
+            let r = (1.0 - z * z).sqrt();
+            let wi = [r * phi.cos(), z, r * phi.sin()];
+            let cos = wi[1].abs();
+            let full = b.eval_direct(wo, wi, &s, omega);
+            let none = black.eval_direct(wo, wi, &s, omega);
+            let col = tinted.eval_direct(wo, wi, &s, omega);
+            if (wi[1] > 0.0) != front {
+                assert!(
+                    none.is_black(),
+                    "{wo:?} {wi:?}: transmission under black {none:?}"
+                );
+                for (c, &k) in tint.iter().enumerate() {
+                    let (f, t) = (full.as_slice()[c], col.as_slice()[c]);
+                    assert!((t - f * k).abs() <= 1e-6 * f.max(1e-9), "{t} vs {f} x {k}");
+                }
+            } else {
+                // (full - black) / (cos omega): the part the pattern removed, per unit
+                // projected solid angle: the same for every light direction.
+                removed.push((full.as_slice()[1] - none.as_slice()[1]) as f64 / (cos * omega));
+                kept.push(none.as_slice()[1] as f64 / (cos * omega));
+            }
+        }
+        let (lo, hi) = removed
+            .iter()
+            .fold((f64::INFINITY, 0f64), |(a, b), &x| (a.min(x), b.max(x)));
+        assert!(
+            lo > 0.05 / std::f64::consts::PI * 0.99 || !front,
+            "{wo:?}: removed {lo}"
+        );
+        assert!(
+            hi - lo <= 1e-4 * hi.max(1e-6),
+            "{wo:?}: removed part varies {lo}..{hi}"
+        );
+        let (klo, khi) = kept
+            .iter()
+            .fold((f64::INFINITY, 0f64), |(a, b), &x| (a.min(x), b.max(x)));
+        assert!(
+            khi > 2.0 * klo.max(1e-9),
+            "{wo:?}: kept reflection {klo}..{khi} is not directional"
+        );
+        // Sampling under the black pattern: transmitted samples carry nothing, and the
+        // reflected ones carry what evaluation integrates.
+        let m = 200_000;
+        let (mut sr, mut er) = (0.0, 0.0);
+        for _ in 0..m {
+            if let Some(smp) = black.sample(wo, &s, rng.random(), rng.random(), rng.random()) {
+                let y = smp.weight.as_slice()[1] as f64;
+                if smp.kind.is_transmission() {
+                    assert_eq!(y, 0.0, "{wo:?}: transmitted sample under a black pattern");
+                } else {
+                    sr += y;
+                }
+            }
+            let z: f64 = 2.0 * rng.random::<f64>() - 1.0;
+            let phi = 2.0 * std::f64::consts::PI * rng.random::<f64>();
+            let r = (1.0 - z * z).sqrt();
+            let wi = [r * phi.cos(), z, r * phi.sin()];
+            er += black
+                .eval_direct(wo, wi, &s, 4.0 * std::f64::consts::PI)
+                .as_slice()[1] as f64;
+        }
+        let (sr, er) = (sr / m as f64, er / m as f64);
+        eprintln!("pattern black, wo {wo:.2?}: reflection sampled {sr:.4}, evaluated {er:.4}");
+        assert!(
+            (sr - er).abs() <= 0.03 * er + 2e-3,
+            "{wo:?}: sampled {sr} vs evaluated {er}"
+        );
+    }
+}
+
+/// The function file and transform arguments of a BSDF material (`m_bsdf.c`: thickness and
+/// up vector are expressions of the function file, the transform turns the up vector): the
+/// blinds with `uy` = 1 (along the window normal, illegal on its own) from `up.cal`, turned
+/// onto +Z by `-rx 90`, are the room's window exactly: real rtrace gives the same bytes for
+/// both scenes, and so do we. Turned the other way (`-rx -90`, up -Z: the slats upside
+/// down), rtrace and we both read differently. An up vector that reads the ray is refused.
+#[test]
+fn function_file_and_transform_turn_the_up_vector_as_rtrace() {
+    if !common::have_radiance("function_file_and_transform_turn_the_up_vector_as_rtrace") {
+        return;
+    }
+    let t = common::tmpdir();
+    let d = t.path();
+    let base = room_with(d, "blinds45.xml");
+    let text = std::fs::read_to_string(&base).unwrap();
+    std::fs::write(d.join("up.cal"), "th = 0;\nux = 0;\nuy = 2 - 1;\nuz = 0;\n").unwrap();
+    let variant = |name: &str, args: &str| {
+        let p = d.join(name);
+        let line = format!("void BSDF window_mat {args} 0 0");
+        std::fs::write(
+            &p,
+            text.replace("void BSDF window_mat 6 0 blinds45.xml 0 0 1 . 0 0", &line),
+        )
+        .unwrap();
+        p
+    };
+    let turned = variant("turned.rad", "8 th blinds45.xml ux uy uz up.cal -rx 90");
+    let flipped = variant("flipped.rad", "8 th blinds45.xml ux uy uz up.cal -rx -90");
+    let opts = ["-h", "-I", "-ab", "2", "-ad", "2048", "-lw", "1e-4"];
+    // -u-: rtrace's correlated sampling, the same sequence every run (its default -u+
+    // seeds from the clock), so equal scenes give equal bytes.
+    let rtrace = |scene: &std::path::Path| {
+        let oct = common::run_ok(common::radiance("oconv").current_dir(d).arg(scene), b"");
+        std::fs::write(d.join("x.oct"), oct).unwrap();
+        common::run_ok(
+            common::radiance("rtrace")
+                .current_dir(d)
+                .args(["-u-", "-aa", "0", "-as", "0"])
+                .args(opts)
+                .arg("x.oct"),
+            ROOM_SENSORS.as_bytes(),
+        )
+    };
+    let ours = |scene: &std::path::Path| {
+        common::run_ok(
+            common::ours("rdc")
+                .current_dir(d)
+                .args(["-s", "3"])
+                .args(opts)
+                .arg(scene),
+            ROOM_SENSORS.as_bytes(),
+        )
+    };
+    let (r_base, r_turned, r_flipped) = (rtrace(&base), rtrace(&turned), rtrace(&flipped));
+    assert_eq!(
+        r_base, r_turned,
+        "rtrace: the transform should turn uy onto +Z"
+    );
+    assert_ne!(r_base, r_flipped);
+    let (o_base, o_turned, o_flipped) = (ours(&base), ours(&turned), ours(&flipped));
+    assert_eq!(
+        o_base, o_turned,
+        "ours: the transform should turn uy onto +Z"
+    );
+    // Upside-down slats: where rtrace moves by more than 30 % (the sensor by the window:
+    // -76 %; the others move by under 10 %, measured at -ad 8192 / 65536), we move the
+    // same way by more than 30 %.
+    let (rb, rf) = (numbers(&r_base, 3), numbers(&r_flipped, 3));
+    let (ob, of) = (numbers(&o_base, 3), numbers(&o_flipped, 3));
+    let mut moved = 0;
+    for s in 0..rb.len() {
+        let (r, o) = (rf[s] / rb[s] - 1.0, of[s] / ob[s] - 1.0);
+        eprintln!(
+            "sensor {s}: slats upside down: rtrace {:+.1} %, ours {:+.1} %",
+            100.0 * r,
+            100.0 * o
+        );
+        if r.abs() > 0.3 {
+            moved += 1;
+            assert!(
+                o.abs() > 0.3 && r.signum() == o.signum(),
+                "sensor {s}: rtrace {r} ours {o}"
+            );
+        }
+    }
+    assert!(moved >= 1, "upside-down slats changed nothing in rtrace");
+    // An up vector that depends on the hit point is refused with the material's place.
+    let varying = variant("varying.rad", "6 0 blinds45.xml 0 0 Pz .");
+    let out = common::run(
+        common::ours("rdc").current_dir(d).args(opts).arg(&varying),
+        ROOM_SENSORS.as_bytes(),
+    );
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("varying.rad:") && err.contains("depends on the ray"),
+        "{err}"
+    );
+    // So is one that does not parse, naming the scene line.
+    let broken = variant("broken.rad", "6 0 blinds45.xml 0 0 (1 .");
+    let out = common::run(
+        common::ours("rdc").current_dir(d).args(opts).arg(&broken),
+        ROOM_SENSORS.as_bytes(),
+    );
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("broken.rad:") && err.contains("does not parse"),
+        "{err}"
+    );
+}
+
 /// Work-plane and vertical sensors of `room.rad`.
 const ROOM_SENSORS: &str = "2 1 .8 0 0 1\n2 2.5 .8 0 0 1\n2 4 .8 0 0 1\n1 2.5 .8 0 0 1\n3 2.5 .8 0 0 1\n2 2.5 1.5 0 -1 0\n";
 
@@ -263,6 +499,14 @@ fn room_with(dir: &std::path::Path, xml: &str) -> std::path::PathBuf {
 }
 
 fn numbers(bytes: &[u8], per_line: usize) -> Vec<f64> {
+    rgb_numbers(bytes, per_line)
+        .into_iter()
+        .map(photopic)
+        .collect()
+}
+
+/// The first three values of each non-empty line.
+fn rgb_numbers(bytes: &[u8], per_line: usize) -> Vec<[f64; 3]> {
     String::from_utf8(bytes.to_vec())
         .unwrap()
         .lines()
@@ -270,7 +514,7 @@ fn numbers(bytes: &[u8], per_line: usize) -> Vec<f64> {
         .map(|l| {
             let v: Vec<f64> = l.split_whitespace().map(|w| w.parse().unwrap()).collect();
             assert_eq!(v.len(), per_line, "{l}");
-            photopic([v[0], v[1], v[2]])
+            [v[0], v[1], v[2]]
         })
         .collect()
 }
@@ -304,13 +548,54 @@ fn room_irradiance_through_a_tensor_tree_window_agrees_with_rtrace() {
     room_agrees_with_rtrace(&["lobe_tt.xml"]);
 }
 
+/// Patterns on a BSDF window (`m_bsdf.c`: the pattern colour multiplies the diffuse parts
+/// and the transmission, not the non-diffuse reflection): the same room and criterion with
+/// each Klems window modified by a constant `colorfunc` (0.3, 0.6, 0.9) and a `brightfunc`
+/// of the hit point (horizontal stripes of 1 and 0.3, 0.25 m each), red, green and blue
+/// compared separately.
+#[test]
+fn room_through_patterned_klems_windows_agrees_with_rtrace() {
+    if !common::have_radiance("room_through_patterned_klems_windows_agrees_with_rtrace") {
+        return;
+    }
+    room_agrees_with_rtrace_as(&KLEMS, Some(PATTERN));
+}
+
+/// The patterns of the test above (the window material's modifier becomes `stripes`).
+const PATTERN: &str = "void colorfunc tint 4 .3 .6 .9 .\n0\n0\n\
+tint brightfunc stripes 2 stripe stripes.cal\n0\n0\n";
+
 fn room_agrees_with_rtrace(xmls: &[&str]) {
+    room_agrees_with_rtrace_as(xmls, None)
+}
+
+/// `pattern`: scene text defining a modifier `stripes` (and `stripes.cal`) that modifies
+/// the window material; then the channels are compared one by one, else photopic values.
+fn room_agrees_with_rtrace_as(xmls: &[&str], pattern: Option<&str>) {
     let t = common::tmpdir();
     // -st .15 (rtrace's default) on both: matrix parts whose total is at most 0.15 are
     // sampled as diffuse in Radiance (specthresh), so the rule is exercised.
     let opts = ["-ab", "4", "-lw", "1e-5", "-st", ".15"];
     for &xml in xmls {
         let scene = room_with(t.path(), xml);
+        if let Some(p) = pattern {
+            let text = std::fs::read_to_string(&scene).unwrap();
+            let text = text.replace("void BSDF window_mat", "stripes BSDF window_mat");
+            std::fs::write(&scene, format!("{p}{text}")).unwrap();
+            std::fs::write(
+                t.path().join("stripes.cal"),
+                "stripe = if(sin(4 * PI * Pz), 1, .3);\n",
+            )
+            .unwrap();
+        }
+        // The values compared: photopic, or each channel under a coloured pattern.
+        let pick = |v: Vec<[f64; 3]>| -> Vec<f64> {
+            match pattern {
+                None => v.into_iter().map(photopic).collect(),
+                Some(_) => v.into_iter().flatten().collect(),
+            }
+        };
+        let per = if pattern.is_some() { 3 } else { 1 };
         let oct = t.path().join(format!("{xml}.oct"));
         let o = common::run_ok(common::radiance("oconv").arg(&scene), b"");
         std::fs::write(&oct, o).unwrap();
@@ -327,10 +612,10 @@ fn room_agrees_with_rtrace(xmls: &[&str]) {
                     .arg(&oct),
                 input.as_bytes(),
             );
-            runs.push(numbers(&out, 3)[pad..].to_vec());
+            runs.push(pick(rgb_numbers(&out, 3))[per * pad..].to_vec());
         }
         let se_path = t.path().join(format!("{xml}.se"));
-        let ours = numbers(
+        let ours = pick(rgb_numbers(
             &common::run_ok(
                 common::ours("rdc")
                     .current_dir(t.path())
@@ -341,7 +626,7 @@ fn room_agrees_with_rtrace(xmls: &[&str]) {
                 ROOM_SENSORS.as_bytes(),
             ),
             3,
-        );
+        ));
         let se_text = std::fs::read_to_string(&se_path).unwrap();
         let rel_se: Vec<f64> = se_text
             .split("\n\n")
@@ -350,7 +635,10 @@ fn room_agrees_with_rtrace(xmls: &[&str]) {
             .lines()
             .map(|l| l.split_whitespace().next().unwrap().parse().unwrap())
             .collect();
-        assert_eq!((ours.len(), rel_se.len()), (n, n));
+        assert_eq!((ours.len(), rel_se.len()), (n * per, n));
+        // Each channel takes its sensor's relative standard error (ours reports one).
+        let rel_se: Vec<f64> = rel_se.iter().flat_map(|&x| vec![x; per]).collect();
+        let n = n * per;
         let (mut rel, mut cv) = (Vec::new(), Vec::new());
         for s in 0..n {
             let v: Vec<f64> = runs.iter().map(|r| r[s]).collect();

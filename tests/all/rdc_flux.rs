@@ -99,8 +99,8 @@ fn col_sums(m: &Matrix, skip: usize) -> Vec<f64> {
 
 /// Ours vs the mean of Radiance's `runs` over `items` (indices into the vectors): asserts
 /// the criterion of the module docs (spread = per-item sample standard deviation over the
-/// runs / their mean) and prints the figures.
-fn agree(what: &str, ours: &[f64], runs: &[&[f64]], items: &[usize]) {
+/// runs / their mean) and prints the figures. Also `shading.rs`'s five-phase check.
+pub(crate) fn agree(what: &str, ours: &[f64], runs: &[&[f64]], items: &[usize]) {
     assert!(items.len() >= 5, "{what}: only {} items", items.len());
     let k = runs.len() as f64;
     let mut diff = Vec::new();

@@ -345,10 +345,11 @@ fn unsupported_inputs_name_file_and_line() {
             "local light source",
         ),
         (
-            // BSDF materials load now; their function files do not.
-            "void BSDF b 6 0 x.xml 0 0 1 my.cal 0 0\nb polygon p 0 0 9 0 0 0 1 0 0 0 1 0\n",
+            // BSDF materials load now, with function files and transforms; an up vector
+            // that varies with the ray does not.
+            "void BSDF b 6 0 x.xml 0 0 Nz . 0 0\nb polygon p 0 0 9 0 0 0 1 0 0 0 1 0\n",
             "test.rad:1",
-            "function file 'my.cal' (only '.') on BSDF 'b'",
+            "up z expression 'Nz' that depends on the ray on BSDF 'b'",
         ),
     ];
     for (text, loc, what) in cases {

@@ -570,6 +570,10 @@ impl PatternedMaterial {
         if !pcol.as_slice().iter().all(|v| v.is_finite() && *v >= 0.0) {
             return self.fallback.clone();
         }
+        // A BSDF keeps its data (loaded once from its XML file) and takes the colour.
+        if let crate::material::Material::Bsdf(b) = &self.fallback {
+            return crate::material::Material::Bsdf(Box::new(b.with_pattern(Some(pcol))));
+        }
         match crate::material::Material::build_patterned(
             &self.kind,
             &self.pats.ch,

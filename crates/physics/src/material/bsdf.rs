@@ -561,8 +561,9 @@ const PI_: f64 = std::f64::consts::PI;
 /// A `BSDF` or `aBSDF` material (Radiance `src/rt/m_bsdf.c`, read to learn the behaviour):
 ///
 /// `mod BSDF thick file ux uy uz funcfile [transform] / 0 / 0|3|6|9 rdf gdf bdf rdb gdb bdb
-/// rdt gdt bdt`; `aBSDF` has no `thick`. Here `thick` and `ux uy uz` must be numbers and
-/// `funcfile` `.` (expressions and transforms are refused).
+/// rdt gdt bdt`; `aBSDF` has no `thick`. `thick` and `ux uy uz` are numbers or expressions
+/// of the function file (`.`: none) that do not read the ray (those are refused); the
+/// transform turns the up vector and scales the thickness, as `m_bsdf.c` does.
 ///
 /// - Local frame: `z` = the surface normal (front), `x = normalize(up x N)`, `y = N x x`
 ///   ([`crate::geometry::klems::KlemsFrame`]); an up vector parallel to the normal makes the
@@ -592,6 +593,12 @@ const PI_: f64 = std::f64::consts::PI;
 ///   data there is no peak yet: `aBSDF` blocks shadow rays (the sun reaches through
 ///   samples only). View rays are
 ///   not split into a through ray and samples as Radiance does (they sample the BSDF).
+/// - Patterns modifying the material (Radiance's `r->pcol`, [`Bsdf::pattern`]) multiply
+///   everything except the non-diffuse reflection, as `m_bsdf.c` does: the Lambertian
+///   reflection and transmission (the data's own and the extra arguments), the
+///   non-diffuse transmission (evaluated, sampled or folded below `-st`) and `aBSDF`'s
+///   through peak; non-diffuse reflection, and reflection folded below `-st`, keep the
+///   data's colour.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Bsdf {
     pub data: std::sync::Arc<KlemsBsdf>,
@@ -606,11 +613,32 @@ pub struct Bsdf {
     pub st: f64,
     /// The run's channels.
     pub ch: crate::radiometry::Channels,
+    /// Colour of the patterns modifying the material at this hit (`r->pcol`), in the run's
+    /// channels; `None` = white.
+    pub pattern: Option<super::Color>,
 }
 
 impl Bsdf {
     fn colour(&self, rgb: [f64; 3]) -> super::Color {
         super::to_channels(rgb, &self.ch)
+    }
+
+    /// `colour(rgb)` times the pattern colour (the parts `m_bsdf.c` multiplies by pcol).
+    fn patterned(&self, rgb: [f64; 3]) -> super::Color {
+        let c = self.colour(rgb);
+        match self.pattern {
+            Some(p) if p.ncomp() == c.ncomp() => c * p,
+            _ => c,
+        }
+    }
+
+    /// The same material under a pattern colour (see [`Bsdf::pattern`]); the data stay
+    /// shared.
+    pub fn with_pattern(&self, pattern: Option<super::Color>) -> Bsdf {
+        Bsdf {
+            pattern,
+            ..self.clone()
+        }
     }
 
     fn frame(&self, normal: [f64; 3]) -> Option<crate::geometry::klems::KlemsFrame> {
@@ -675,7 +703,21 @@ impl Bsdf {
             b[k] += extra[k] / PI_;
         }
         let k = l[2].abs() * omega;
-        self.colour([b[0] * k, b[1] * k, b[2] * k])
+        if !same_side {
+            // dir_btdf: diffuse and non-diffuse transmission both take the pattern.
+            return self.patterned([b[0] * k, b[1] * k, b[2] * k]);
+        }
+        // dir_brdf: the pattern multiplies the Lambertian reflection (the data's own and
+        // the extra argument) but not the non-diffuse part.
+        let d = &*self.data;
+        let lamb = if hitfront {
+            d.r_lamb_front
+        } else {
+            d.r_lamb_back
+        };
+        let diffuse: [f64; 3] = std::array::from_fn(|c| (lamb[c] + extra[c]) / PI_ * k);
+        let rest: [f64; 3] = std::array::from_fn(|c| b[c] * k - diffuse[c]);
+        self.colour(rest) + self.patterned(diffuse)
     }
 
     /// Sample a continuation (three uniforms in [0, 1)).
@@ -716,6 +758,8 @@ impl Bsdf {
             rl[1] + rx[1] + rs_fold,
             rl[2] + rx[2] + rs_fold,
         ];
+        // The part of `rd` a pattern multiplies (sample_sdf: none on folded reflection).
+        let rd_lamb = [rl[0] + rx[0], rl[1] + rx[1], rl[2] + rx[2]];
         let td = [
             tl[0] + self.tdiff[0] + ts_fold,
             tl[1] + self.tdiff[1] + ts_fold,
@@ -745,30 +789,36 @@ impl Bsdf {
                 super::sampling::neg(f.z)
             }
         };
-        let (dir, rgb, kind) = match lobe {
+        let inv_p = 1.0 / p;
+        let (dir, weight, kind) = match lobe {
             0 | 1 => {
                 let (l, rgb) = d.sample_lobe(v, lobe == 1, u, u2, u3)?;
-                let kind = if lobe == 0 {
-                    SampleKind::SpecularReflect
+                let w = rgb.map(|x| x * inv_p);
+                if lobe == 0 {
+                    // sample_sdcomp: no pattern on non-diffuse reflection.
+                    (f.to_world(l), self.colour(w), SampleKind::SpecularReflect)
                 } else {
-                    SampleKind::SpecularTransmit
-                };
-                (f.to_world(l), rgb, kind)
+                    (
+                        f.to_world(l),
+                        self.patterned(w),
+                        SampleKind::SpecularTransmit,
+                    )
+                }
             }
             2 => (
                 super::sampling::cosine_hemisphere(nside(hitfront), u2, u3),
-                rd,
+                self.patterned(rd_lamb.map(|x| x * inv_p)) + self.colour([rs_fold * inv_p; 3]),
                 SampleKind::DiffuseReflect,
             ),
             _ => (
                 super::sampling::cosine_hemisphere(nside(!hitfront), u2, u3),
-                td,
+                self.patterned(td.map(|x| x * inv_p)),
                 SampleKind::DiffuseTransmit,
             ),
         };
         Some(Sample {
             wi: dir,
-            weight: self.colour([rgb[0] / p, rgb[1] / p, rgb[2] / p]),
+            weight,
             kind,
         })
     }
@@ -785,7 +835,8 @@ impl Bsdf {
         let f = self.frame(s.normal)?;
         let v = f.to_local(wo);
         let t = self.peak(v)?;
-        (t.iter().any(|&x| x > 0.0)).then(|| self.colour(t))
+        // compute_through: the through component takes the pattern.
+        (t.iter().any(|&x| x > 0.0)).then(|| self.patterned(t))
     }
 
     /// The straight-through "peak" of the transmission seen from local `v` (RGB): the
@@ -890,36 +941,50 @@ pub fn build_material(
             strings.len()
         )));
     }
-    if strings.len() > need {
-        return Err(unsupported(format!(
-            "transform '{}'",
-            strings[need..].join(" ")
-        )));
-    }
+    // m_bsdf.c's getfunc(m, 5, 0x1d, 1): the thickness and the up vector are expressions
+    // in the context of the function file (`.`: none), and the transform after it turns
+    // the up vector and scales the thickness (`mf->fxp`, the transform as xform applies
+    // it). Expressions that read the ray (Nx, Px, ...) would vary per hit: refused.
+    let funcfile = &strings[k + 4];
+    let program = if funcfile == "." {
+        crate::calc::Program::default()
+    } else {
+        let path = rdaylight_formats::scene::find_file(funcfile, scene_file).ok_or_else(|| {
+            bad(format!("function file '{funcfile}' not found (looked beside the scene file, in the working folder and on RAYPATH)"))
+        })?;
+        crate::calc::Program::load(&path)?
+    };
     let num = |s: &str, what: &str| -> Result<f64> {
-        s.parse::<f64>()
+        if let Some(v) = s.parse::<f64>().ok().filter(|v| v.is_finite()) {
+            return Ok(v);
+        }
+        let e = program
+            .expr(s, what)
+            .map_err(|e| bad(format!("has {what} '{s}' that does not parse ({e})")))?;
+        if program.reads_ray(&e) {
+            return Err(unsupported(format!(
+                "{what} expression '{s}' that depends on the ray"
+            )));
+        }
+        program
+            .eval(&e, crate::calc::Inputs::default())
             .ok()
             .filter(|v| v.is_finite())
-            .ok_or_else(|| unsupported(format!("{what} expression '{s}' (only numbers)")))
+            .ok_or_else(|| bad(format!("has {what} '{s}' that is not a finite number")))
     };
+    let xf = crate::calc::xf::Xf::forward_of(&strings[need..], loc, tname)?;
     let thick = if absdf {
         0.0
     } else {
-        num(&strings[0], "thickness")?
+        num(&strings[0], "thickness")? * xf.sca
     };
     let thick = if thick.abs() <= FTINY { 0.0 } else { thick };
     let file = &strings[k];
-    let up = [
+    let up = xf.vector([
         num(&strings[k + 1], "up x")?,
         num(&strings[k + 2], "up y")?,
         num(&strings[k + 3], "up z")?,
-    ];
-    if strings[k + 4] != "." {
-        return Err(unsupported(format!(
-            "function file '{}' (only '.')",
-            strings[k + 4]
-        )));
-    }
+    ]);
     if reals.len() > 9 || reals.len() % 3 != 0 {
         return Err(bad(format!(
             "has {} real arguments; expected 0, 3, 6 or 9",
@@ -949,6 +1014,7 @@ pub fn build_material(
         tdiff: trip(6),
         st,
         ch: *ch,
+        pattern: None,
     })
 }
 
@@ -979,6 +1045,7 @@ mod tests {
             tdiff: [0.2; 3],
             st: 0.15,
             ch: crate::radiometry::Channels::rgb(),
+            pattern: None,
         }
     }
 

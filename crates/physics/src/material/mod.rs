@@ -551,13 +551,7 @@ impl Material {
                 strings,
                 reals,
             } => {
-                if pattern.is_some() {
-                    return Err(Error::unsupported(
-                        loc.clone(),
-                        format!("pattern on {} material '{id}'", otype.name()),
-                    ));
-                }
-                Material::Bsdf(Box::new(bsdf::build_material(
+                let b = bsdf::build_material(
                     *otype == crate::scene::OType::ABsdf,
                     strings,
                     reals,
@@ -565,7 +559,8 @@ impl Material {
                     id,
                     opts.st,
                     ch,
-                )?))
+                )?;
+                Material::Bsdf(Box::new(b.with_pattern(pattern)))
             }
             Primitive::Spotlight { .. } => {
                 return Err(Error::unsupported(

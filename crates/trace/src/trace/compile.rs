@@ -28,8 +28,9 @@
 //!   into shared units first: [`super::expand`]); other patterns, textures and
 //! mixtures on surfaces (`specpict` and other picture or data patterns, textures, `-i`
 //! transform arrays on function-file patterns); materials other than
-//! plastic/metal/trans/glass/mirror/glow/BSDF/aBSDF (e.g. `spotlight`; BSDF with tensor-tree
-//! data, a function file or a transform); *local* direct sources
+//! plastic/metal/trans/glass/mirror/glow/BSDF/aBSDF (e.g. `spotlight`; BSDF with a function
+//! file or a transform; patterns on BSDF are modelled as `m_bsdf.c` applies them,
+//! [`crate::material::bsdf::Bsdf`]); *local* direct sources
 //! (`light`, `illum`, `glow` with maxrad > 0 on surfaces: no next-event estimation to
 //! surfaces yet); `mirror`/`illum` alternate materials; on distant sources, patterns other
 //! than the sky functions, `specpict` and the function-file patterns above, and
