@@ -235,7 +235,12 @@ pub struct ApplyArgs {
     /// Sensors (ids for local obstructions and sensor faults).
     #[arg(long)]
     pub sensors: String,
-    /// Effect NAME:params (repeatable), as `rcalib explain` prints them.
+    /// Effect NAME:params (repeatable), as `rcalib explain` prints them: transmittance:SCALE,
+    /// walls|ceiling|floor|ground-albedo:SCALE, obstruction:AZIMUTH,HALF_WIDTH,ALTITUDE (one
+    /// flat-topped sector, degrees), skyline:DISTANCE,START,STEP,ALT,ALT,... (a profile: one
+    /// altitude per STEP-degree sector from azimuth START, on a circle DISTANCE m around the
+    /// windows; docs/rcalib-effects.md), overhang:DEPTH,WINDOW[,ABOVE],
+    /// local-obstruction:FRACTION,ID+ID, sensor-fault:ID=F+ID=F, tint:SCALE,SLOPE,CURVATURE.
     #[arg(long = "effect", required = true)]
     pub effects: Vec<String>,
     /// With sensor-fault effects: the readings to correct ...

@@ -45,9 +45,9 @@ fn independent_cases() {
         opts.settings.max_samples *= 4;
     }
     println!(
-        "| case | hidden | ranked first | selected | hit | RMSE_rel before | after | noise-only | after/noise | truth simulated | s |"
+        "| case | hidden | ranked first | selected | hit | RMSE_rel before | after | noise-only | after/noise | truth simulated | fitted vs applied | s |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|");
     let (mut hits, mut within, mut n) = (0, 0, 0);
     for name in &names {
         let case = Case::from_dir(&Path::new(DIR).join(name)).unwrap();
@@ -56,7 +56,7 @@ fn independent_cases() {
         hits += usize::from(o.hit);
         within += usize::from(o.rmse_after <= 1.3 * o.rmse_noise);
         println!(
-            "| {name} | {} | {} | {} | {} | {:.1} | {:.1} | {:.1} | {:.2} | {:.1} | {:.0} |",
+            "| {name} | {} | {} | {} | {} | {:.1} | {:.1} | {:.1} | {:.2} | {:.1} | {:.1} | {:.0} |",
             if o.hidden.is_empty() {
                 "nothing".to_string()
             } else {
@@ -74,6 +74,7 @@ fn independent_cases() {
             o.rmse_noise,
             o.rmse_after / o.rmse_noise,
             o.rmse_sim,
+            o.rmse_fit_vs_apply,
             o.seconds
         );
         if std::env::var("RCALIB_WORST").is_ok() {

@@ -27,7 +27,7 @@ pub fn fit(f: &Fitter, base: &[Effect]) -> Option<Effect> {
     let sim = f.predict(&base);
     let ns = f.m.nsens();
     let mut factors: Vec<(usize, f64)> = Vec::new();
-    let mut best = f.score_sim(&sim).bic(0);
+    let mut best = f.score_sim(&sim).bic(0.0);
     loop {
         // Mean log residual (measured / simulated) per sensor under the current flags.
         let mut sum = vec![0.0; ns];
@@ -81,7 +81,7 @@ pub fn fit(f: &Fitter, base: &[Effect]) -> Option<Effect> {
             .zip(&f.m.obs)
             .map(|(y, o)| y * w.cal[o.sensor])
             .collect();
-        let bic = f.score_sim(&sim2).bic(trial.len());
+        let bic = f.score_sim(&sim2).bic(trial.len() as f64);
         if bic >= best - 2.0 || trial.len() > ns / 2 {
             break;
         }
