@@ -110,13 +110,17 @@ pub fn hit(c: [f64; 3], dist: f64, org: [f64; 3], d: [f64; 3]) -> Option<(f64, f
     ))
 }
 
+/// A sky cell a sensor sees directly: (weight, hit azimuth, hit elevation, the cell's
+/// altitude range), degrees.
+type SeenCell = (f64, f64, f64, f64);
+
 /// The profile's view from the sensors and windows at one distance.
 #[derive(Debug, Clone)]
 pub struct Geometry {
     pub distance: f64,
     /// `[s][p]`: (cell, weight, hit azimuth, hit elevation, cell altitude range) of the
     /// cells sensor `s` sees directly ([`Horizon`]'s direct weights).
-    dir: Vec<Vec<Vec<(f64, f64, f64, f64)>>>,
+    dir: Vec<Vec<Vec<SeenCell>>>,
     /// `[t][s]`: the sun's hit seen from sensor `s`.
     sun_dir: Vec<Vec<Option<(f64, f64)>>>,
     /// `[t]`: per window (area x cosine towards the sun, hit azimuth, hit elevation).
