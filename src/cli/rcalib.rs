@@ -237,11 +237,14 @@ pub struct ApplyArgs {
     pub sensors: String,
     /// Effect NAME:params (repeatable), as `rcalib explain` prints them:
     /// transmittance:SCALE; walls|ceiling|floor|ground-albedo:SCALE;
-    /// obstruction:AZIMUTH,HALF_WIDTH,ALTITUDE (degrees);
+    /// obstruction:AZIMUTH,HALF_WIDTH,ALTITUDE (one flat-topped sector, degrees);
+    /// skyline:DISTANCE,START,STEP,ALT,ALT,... (a profile: one altitude per STEP-degree
+    /// sector from azimuth START, on a circle DISTANCE m around the windows);
     /// overhang:DEPTH[,WINDOW[,ABOVE[,OVERRUN]]] (m; OVERRUN past each side of the
     /// opening, default DEPTH); local-obstruction:X0,Y0,X1,Y1,TOP[,THICK] (a box standing
     /// on the floor along the plan segment, m; THICK default 0.1) or the older
-    /// local-obstruction:FRACTION,ID+ID; sensor-fault:ID=F+ID=F; tint:SCALE,SLOPE,CURVATURE.
+    /// local-obstruction:FRACTION,ID+ID; sensor-fault:ID=F+ID=F; tint:SCALE,SLOPE,CURVATURE
+    /// (docs/rcalib-effects.md).
     #[arg(long = "effect", required = true)]
     pub effects: Vec<String>,
     /// With sensor-fault effects: the readings to correct ...

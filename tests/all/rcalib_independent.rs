@@ -49,15 +49,15 @@ fn cache() -> std::path::PathBuf {
 /// Evaluate `names` (explain, apply, re-simulation) and print the per-case table.
 fn table(names: &[String], opts: &Options, worst: bool) -> Vec<Outcome> {
     println!(
-        "| case | hidden | ranked first | selected | hit | RMSE_rel before | after | noise-only | after/noise | truth simulated | s |"
+        "| case | hidden | ranked first | selected | hit | RMSE_rel before | after | noise-only | after/noise | truth simulated | fitted vs applied | s |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|");
     let mut out = Vec::new();
     for name in names {
         let case = Case::from_dir(&Path::new(DIR).join(name)).unwrap();
         let o = evaluate(&case, opts, DEFAULT_SENSOR_SIGMA).unwrap();
         println!(
-            "| {name} | {} | {} | {} | {} | {:.1} | {:.1} | {:.1} | {:.2} | {:.1} | {:.0} |",
+            "| {name} | {} | {} | {} | {} | {:.1} | {:.1} | {:.1} | {:.2} | {:.1} | {:.1} | {:.0} |",
             if o.hidden.is_empty() {
                 "nothing".to_string()
             } else {
@@ -75,6 +75,7 @@ fn table(names: &[String], opts: &Options, worst: bool) -> Vec<Outcome> {
             o.rmse_noise,
             o.rmse_after / o.rmse_noise,
             o.rmse_sim,
+            o.rmse_fit_vs_apply,
             o.seconds
         );
         if worst {

@@ -5,6 +5,7 @@
 //! | transmittance | every `glass` transmissivity times the scale (capped at 1) |
 //! | walls / ceiling / floor / ground-albedo | the class's material colours times the scale (capped at 0.95) |
 //! | obstruction | vertical facets (plastic, reflectance [`OBSTRUCTION_REFLECTANCE`]) on a circle of radius [`OBSTRUCTION_RADIUS`] around the windows, as high as the fitted horizon altitude seen from the window centres |
+//! | skyline | vertical facets (plastic, reflectance [`OBSTRUCTION_REFLECTANCE`]) one per sector on a circle of the fitted distance around the windows' centre, each as high as its sector's altitude seen from the windows' centre (the geometry the effect models) |
 //! | overhang | a horizontal plate `above` the window head, `depth` deep, wider than the window by `overrun` each side |
 //! | local-obstruction | an opaque box standing on the floor along the fitted plan segment, as thick and as high as fitted (plastic, reflectance 0.5); the older `FRACTION,ID+ID` form: a box 0.1 m thick between the sensors and the window, as high as blocks that fraction of the window's elevation span seen from them |
 //! | tint | a `spectrum` pattern (the fitted transmittance shape and level) on every `glass` material |
@@ -142,6 +143,45 @@ pub fn apply(
                     )?;
                 }
             }
+            Effect::Skyline {
+                distance,
+                start,
+                step,
+                alts,
+                ..
+            } => {
+                let (c, zref) = window_centre(room, sensors);
+                let m = format!("rcalib_skyline_mat_{k}");
+                add(
+                    &mut s,
+                    &mut added,
+                    "void",
+                    m.clone(),
+                    plastic(OBSTRUCTION_REFLECTANCE),
+                )?;
+                let p = |a: f64, z: f64| {
+                    let a = a.to_radians();
+                    [c[0] + distance * a.sin(), c[1] + distance * a.cos(), z]
+                };
+                let height = |alt: f64| zref + distance * alt.to_radians().tan();
+                for (i, alt) in alts.iter().enumerate() {
+                    // A sector at 0 hides nothing (the profile is 0 there).
+                    if *alt <= 0.0 {
+                        continue;
+                    }
+                    let (a1, a2) = (start + step * i as f64, start + step * (i + 1) as f64);
+                    let t = height(*alt);
+                    // Clockwise in azimuth seen from above, so the normal faces the room.
+                    let v = vec![p(a1, -0.5), p(a2, -0.5), p(a2, t), p(a1, t)];
+                    add(
+                        &mut s,
+                        &mut added,
+                        &m,
+                        format!("rcalib_skyline_{k}_{i}"),
+                        polygon(v),
+                    )?;
+                }
+            }
             Effect::Overhang {
                 window,
                 depth,
@@ -273,7 +313,7 @@ fn capped(
 
 /// Centre of the windows in plan (area weighted; the sensors' centroid if none) and the
 /// mean window-centre height.
-fn window_centre(room: &Room, sensors: &[Sensor]) -> ([f64; 3], f64) {
+pub(crate) fn window_centre(room: &Room, sensors: &[Sensor]) -> ([f64; 3], f64) {
     let a: f64 = room.windows.iter().map(|w| w.area).sum();
     if a > 0.0 {
         let c = room.windows.iter().fold([0.0; 3], |c, w| {

@@ -82,7 +82,7 @@ impl<'a> Fitter<'a> {
 
     /// BIC of a list of effects (k = their parameters).
     pub fn bic(&self, effects: &[Effect]) -> f64 {
-        let k: usize = effects.iter().map(Effect::n_params).sum();
+        let k: f64 = effects.iter().map(Effect::n_params).sum();
         self.score(effects).bic(k)
     }
 

@@ -46,6 +46,8 @@ pub struct Model {
     pub horizon: std::sync::OnceLock<effects::obstruction::Horizon>,
     /// The same cells listed per sensor for the furniture panel, computed on first use.
     pub sight: std::sync::OnceLock<effects::local::Sight>,
+    /// The skyline profile's geometry and facade luminance, computed on first use.
+    pub skyline: std::sync::OnceLock<effects::skyline::Cache>,
 }
 
 /// The light an exterior obstruction's facade sends towards the room in place of the sky
@@ -163,6 +165,7 @@ impl Model {
             obs,
             horizon: std::sync::OnceLock::new(),
             sight: std::sync::OnceLock::new(),
+            skyline: std::sync::OnceLock::new(),
         })
     }
 
@@ -175,6 +178,12 @@ impl Model {
     pub fn horizon(&self) -> &effects::obstruction::Horizon {
         self.horizon
             .get_or_init(|| effects::obstruction::Horizon::new(self))
+    }
+
+    /// The skyline profile's cache of [`effects::skyline::Cache`] (built on first use).
+    pub fn skyline(&self) -> &effects::skyline::Cache {
+        self.skyline
+            .get_or_init(|| effects::skyline::Cache::new(self))
     }
 
     pub fn nsens(&self) -> usize {
@@ -219,6 +228,7 @@ impl Model {
             Effect::Transmittance { .. } => effects::transmittance::apply(e, self, w),
             Effect::Tint { .. } => effects::tint::apply(e, self, w),
             Effect::Obstruction { .. } => effects::obstruction::apply(e, self, w),
+            Effect::Skyline { .. } => effects::skyline::apply(e, self, w),
             Effect::Reflectance { class, scale } => {
                 if let Some(i) = self.refl.iter().position(|r| r.class == *class) {
                     w.refl.push((i, scale - 1.0));

@@ -46,9 +46,9 @@ pub struct Score {
 }
 
 impl Score {
-    /// BIC with `k` effect parameters.
-    pub fn bic(&self, k: usize) -> f64 {
-        self.m2ll + k as f64 * (self.n.max(1) as f64).ln()
+    /// BIC with `k` effect parameters (effective ones for a penalised profile).
+    pub fn bic(&self, k: f64) -> f64 {
+        self.m2ll + k * (self.n.max(1) as f64).ln()
     }
 }
 

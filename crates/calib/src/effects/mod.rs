@@ -8,6 +8,7 @@
 //! |---|---|---|---|
 //! | [`transmittance`] | scale of the glazing transmittance | everything | uniform bias |
 //! | [`obstruction`] | horizon sector: azimuth, half width, altitude | sky patches and suns behind it | low-sky and low-sun hours, sky-view dependent |
+//! | [`skyline`] | horizon profile: altitude per 5-degree azimuth sector at a distance (smoothness prior) | the same, with each sensor's parallax | the same, for buildings with ends |
 //! | [`reflectance`] | scale per surface class (walls, ceiling, floor, ground) | inter-reflected light (re-weighted coefficients) | grows with depth / with ground-lit ceiling |
 //! | [`overhang`] | depth above a window head | high patches and high suns, per sensor | sun hours near the window |
 //! | [`local`] | a vertical panel on the floor: plan segment, top height (parallel to a window wall or across the room) | sky cells and sun each sensor sees past it, the room it hides from them | a few neighbouring sensors, varying with the sun and the sky |
@@ -23,6 +24,7 @@ pub mod obstruction;
 pub mod overhang;
 pub mod reflectance;
 pub mod sensor;
+pub mod skyline;
 pub mod tint;
 pub mod transmittance;
 
@@ -41,6 +43,18 @@ pub enum Effect {
         azimuth: f64,
         half_width: f64,
         altitude: f64,
+    },
+    /// A skyline profile ([`skyline`]): altitude `alts[k]` (degrees, seen from the
+    /// windows' centre) between azimuths `start + k step` and `start + (k + 1) step`, on a cylinder
+    /// `distance` metres around the windows' centre. `sd`: the sectors' posterior standard
+    /// deviations (empty when not fitted); `edf`: its effective parameters for the BIC.
+    Skyline {
+        distance: f64,
+        start: f64,
+        step: f64,
+        alts: Vec<f64>,
+        sd: Vec<f64>,
+        edf: f64,
     },
     /// Reflectance of a surface class times `scale`.
     Reflectance { class: SurfaceClass, scale: f64 },
@@ -104,7 +118,7 @@ impl Effect {
     pub fn family(&self) -> &'static str {
         match self {
             Effect::Transmittance { .. } => "transmittance",
-            Effect::Obstruction { .. } => "obstruction",
+            Effect::Obstruction { .. } | Effect::Skyline { .. } => "obstruction",
             Effect::Reflectance { class, .. } => match class {
                 SurfaceClass::Walls => "walls",
                 SurfaceClass::Ceiling => "ceiling",
@@ -119,21 +133,23 @@ impl Effect {
     }
 
     /// Free parameters (for the BIC penalty): continuous ones plus one per discrete choice
-    /// that was searched (sector, window, sensor group).
-    pub fn n_params(&self) -> usize {
+    /// that was searched (sector, window, sensor group); a skyline profile counts its
+    /// effective parameters under its smoothness prior plus its distance.
+    pub fn n_params(&self) -> f64 {
         match self {
-            Effect::Transmittance { .. } | Effect::Reflectance { .. } => 1,
-            Effect::Obstruction { .. } => 3,
+            Effect::Transmittance { .. } | Effect::Reflectance { .. } => 1.0,
+            Effect::Obstruction { .. } => 3.0,
+            Effect::Skyline { edf, .. } => *edf,
             // Window, depth, height, overrun.
-            Effect::Overhang { .. } => 4,
-            Effect::LocalObstruction { .. } => 3,
+            Effect::Overhang { .. } => 4.0,
+            Effect::LocalObstruction { .. } => 3.0,
             // Position, two ends, top, and the wall / orientation searched.
-            Effect::Furniture { .. } => 5,
+            Effect::Furniture { .. } => 5.0,
             // One per flagged sensor: ln(n) already outweighs what a factor removes at a
             // sensor within the calibration spread (effects::sensor's tests), while a
             // second per sensor would hide a 20 % fault from the significance threshold.
-            Effect::SensorFault { factors } => factors.len(),
-            Effect::Tint { .. } => 3,
+            Effect::SensorFault { factors } => factors.len() as f64,
+            Effect::Tint { .. } => 3.0,
         }
     }
 
@@ -142,6 +158,10 @@ impl Effect {
         match self {
             Effect::Transmittance { scale } => ("scale", *scale),
             Effect::Obstruction { altitude, .. } => ("altitude_deg", *altitude),
+            Effect::Skyline { alts, .. } => (
+                "peak_altitude_deg",
+                alts.iter().copied().fold(0.0, f64::max),
+            ),
             Effect::Reflectance { scale, .. } => ("scale", *scale),
             Effect::Overhang { depth, .. } => ("depth_m", *depth),
             Effect::LocalObstruction { fraction, .. } => ("fraction", *fraction),
@@ -159,6 +179,13 @@ impl Effect {
             | Effect::Reflectance { scale, .. }
             | Effect::Tint { scale, .. } => *scale = v,
             Effect::Obstruction { altitude, .. } => *altitude = v,
+            // The profile's height: every sector scaled so that the peak is `v`.
+            Effect::Skyline { alts, .. } => {
+                let peak = alts.iter().copied().fold(0.0, f64::max);
+                if peak > 0.0 {
+                    alts.iter_mut().for_each(|a| *a *= v / peak);
+                }
+            }
             Effect::Overhang { depth, .. } => *depth = v,
             Effect::LocalObstruction { fraction, .. } => *fraction = v,
             Effect::Furniture { top, .. } => *top = v,
@@ -181,6 +208,13 @@ impl Effect {
                 half_width,
                 altitude,
             } => format!("obstruction:{azimuth:.1},{half_width:.1},{altitude:.1}"),
+            Effect::Skyline {
+                distance,
+                start,
+                step,
+                alts,
+                ..
+            } => skyline::spec(*distance, *start, *step, alts),
             Effect::Reflectance { scale, .. } => format!("{}:{scale:.3}", self.family()),
             Effect::Overhang {
                 window,
@@ -229,6 +263,29 @@ impl Effect {
                 "azimuth = {azimuth:.1} deg E of N, half width = {half_width:.1} deg, \
                  altitude = {altitude:.1} deg"
             ),
+            Effect::Skyline {
+                distance,
+                start,
+                step,
+                alts,
+                sd,
+                edf,
+            } => format!(
+                "distance = {distance:.0} m, sectors of {step:.0} deg from azimuth {start:.0} E of N, \
+                 altitude (deg) by sector centre azimuth: {}; {edf:.1} effective parameters",
+                skyline::shown(alts)
+                    .map(|i| {
+                        let az = (start + step * (i as f64 + 0.5)).rem_euclid(360.0);
+                        match sd.get(i) {
+                            Some(u) if u.is_finite() => {
+                                format!("{az:.0}: {:.1} +- {u:.1}", alts[i])
+                            }
+                            _ => format!("{az:.0}: {:.1}", alts[i]),
+                        }
+                    })
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
             Effect::Reflectance { scale, .. } => format!("scale = {scale:.3}"),
             Effect::Overhang {
                 window,
@@ -267,7 +324,8 @@ impl Effect {
         let bad = |what: &str| {
             Error::Usage(format!(
                 "--effect '{spec}': {what}; expected one of transmittance:SCALE, \
-                 obstruction:AZIMUTH,HALF_WIDTH,ALTITUDE, walls|ceiling|floor|ground-albedo:SCALE, \
+                 obstruction:AZIMUTH,HALF_WIDTH,ALTITUDE, skyline:DISTANCE,START,STEP,ALT,ALT,..., \
+                 walls|ceiling|floor|ground-albedo:SCALE, \
                  overhang:DEPTH[,WINDOW[,ABOVE[,OVERRUN]]], local-obstruction:X0,Y0,X1,Y1,TOP[,THICK] \
                  (or the older FRACTION,ID+ID), sensor-fault:ID=F+ID=F, \
                  tint:SCALE,SLOPE,CURVATURE"
@@ -329,6 +387,7 @@ impl Effect {
                 },
                 _ => return Err(bad("expected AZIMUTH,HALF_WIDTH>0,ALTITUDE 0..90")),
             },
+            "skyline" => skyline::parse(&nums(params)?).map_err(|m| bad(&m))?,
             "overhang" => {
                 let mut parts = params.splitn(4, ',');
                 let d = parts.next().unwrap_or_default();
@@ -441,6 +500,22 @@ impl Effect {
                 (azimuth - half_width).rem_euclid(360.0),
                 (azimuth + half_width).rem_euclid(360.0)
             ),
+            Effect::Skyline {
+                distance,
+                start,
+                step,
+                alts,
+                ..
+            } => {
+                let r = skyline::shown(alts);
+                let peak = alts.iter().copied().fold(0.0, f64::max);
+                format!(
+                    "exterior skyline {distance:.0} m away, up to {peak:.1} deg altitude between \
+                     azimuth {:.0} and {:.0} deg (east of north)",
+                    (start + step * r.start as f64).rem_euclid(360.0),
+                    (start + step * r.end as f64).rem_euclid(360.0)
+                )
+            }
             Effect::Reflectance { class, scale } => format!(
                 "{} reflectance {:.0} % of the modelled value",
                 class.name(),

@@ -48,18 +48,18 @@ pub const CELLS: usize = 16;
 pub struct Horizon {
     /// Per patch (index into the sky patches; none for the ground and the zenith cap):
     /// altitude edges (degrees, `CELLS + 1`), azimuth of the first edge and cell width.
-    cells: Vec<Option<PatchCells>>,
+    pub(crate) cells: Vec<Option<PatchCells>>,
     /// `[p][cell]` weight of light entering through the windows.
-    ind: Vec<Vec<f64>>,
+    pub(crate) ind: Vec<Vec<f64>>,
     /// `[s][p]`: `[cell]` weights of the sensor's direct view (empty: sees none of it).
-    dir: Vec<Vec<Vec<f64>>>,
+    pub(crate) dir: Vec<Vec<Vec<f64>>>,
 }
 
 #[derive(Debug, Clone)]
-struct PatchCells {
-    alt: Vec<f64>,
-    az0: f64,
-    daz: f64,
+pub(crate) struct PatchCells {
+    pub(crate) alt: Vec<f64>,
+    pub(crate) az0: f64,
+    pub(crate) daz: f64,
     /// sin of the lowest and highest altitude.
     s0: f64,
     s1: f64,
@@ -67,7 +67,7 @@ struct PatchCells {
 
 impl PatchCells {
     /// Unit direction of cell `(a, b)` (altitude row, azimuth column).
-    fn centre(&self, a: usize, b: usize) -> [f64; 3] {
+    pub(crate) fn centre(&self, a: usize, b: usize) -> [f64; 3] {
         let z = self.s0 + (self.s1 - self.s0) * (a as f64 + 0.5) / CELLS as f64;
         let az = (self.az0 + self.daz * (b as f64 + 0.5)).to_radians();
         let c = (1.0 - z * z).max(0.0).sqrt();
@@ -277,34 +277,12 @@ pub fn apply(e: &Effect, m: &Model, w: &mut Weights) {
         }
     }
     w.win_dir = Some(wd);
-    // The facade (reflectance `apply::OBSTRUCTION_REFLECTANCE`, Lambertian) faces the room:
-    // its luminance is rho E_f / pi with E_f the illuminance on a vertical plane facing
-    // back from the sector's centre, from the sky patches, the sky's ground patch (the
-    // lower quarter sphere, pi/2 of cosine-weighted solid angle) and the sun.
     let az = azimuth.to_radians();
     let n_f = [-az.sin(), -az.cos(), 0.0];
-    let rho = crate::apply::OBSTRUCTION_REFLECTANCE;
-    let sun_omega = 2.0 * PI * (1.0 - (0.533f64.to_radians() / 2.0).cos());
-    for (t, sk) in m.skies.iter().enumerate() {
-        let lum = |p: usize| -> f64 {
-            (0..3)
-                .map(|c| sk.sky.get(p * 3 + c).copied().unwrap_or(0.0) * LUX_RGB[c])
-                .sum()
-        };
-        let mut e_f = lum(0) * PI / 2.0;
+    for t in 0..nt {
+        let l_o = facade_luminance(m, t, n_f);
         for p in 1..np {
-            let c = dot(m.patches.centre(p), n_f);
-            if c > 0.0 {
-                e_f += lum(p) * m.patches.solid_angle(p) * c;
-            }
-        }
-        if sk.sun_altitude_deg > 0.0 {
-            let white: f64 = LUX_RGB.iter().sum();
-            e_f += sk.sun_radiance * white * sun_omega * dot(sk.sun_dir, n_f).max(0.0);
-        }
-        let l_o = rho * e_f / PI;
-        for p in 1..np {
-            let l = lum(p);
+            let l = sky_luminance(m, t, p);
             if l > 0.0 && fill.ind[p] + fill.dir.iter().skip(p).step_by(np).sum::<f64>() > 0.0 {
                 fill.ratio[t * np + p] = l_o / l;
             }
@@ -320,6 +298,38 @@ pub fn apply(e: &Effect, m: &Model, w: &mut Weights) {
         let behind = smooth_step(altitude - sk.sun_altitude_deg, 0.5);
         w.sun[t] *= 1.0 - inside * behind;
     }
+}
+
+/// Photopic luminance (as the sky's `LUX_RGB` weighting) of sky patch `p` at step `t`.
+pub fn sky_luminance(m: &Model, t: usize, p: usize) -> f64 {
+    let sky = &m.skies[t].sky;
+    (0..3)
+        .map(|c| sky.get(p * 3 + c).copied().unwrap_or(0.0) * LUX_RGB[c])
+        .sum()
+}
+
+/// Luminance of an obstruction's facade whose outward normal is `n_f` (horizontal, facing
+/// the room) at step `t`, as `rcalib apply` writes it: Lambertian, reflectance
+/// `apply::OBSTRUCTION_REFLECTANCE`, so `L = rho E_f / pi` with `E_f` the illuminance on the
+/// vertical plane from the sky patches, the sky's ground patch (the lower quarter sphere,
+/// pi/2 of cosine-weighted solid angle) and the sun.
+pub fn facade_luminance(m: &Model, t: usize, n_f: [f64; 3]) -> f64 {
+    let np = m.comps.npatch;
+    let sk = &m.skies[t];
+    let rho = crate::apply::OBSTRUCTION_REFLECTANCE;
+    let sun_omega = 2.0 * PI * (1.0 - (0.533f64.to_radians() / 2.0).cos());
+    let mut e_f = sky_luminance(m, t, 0) * PI / 2.0;
+    for p in 1..np {
+        let c = dot(m.patches.centre(p), n_f);
+        if c > 0.0 {
+            e_f += sky_luminance(m, t, p) * m.patches.solid_angle(p) * c;
+        }
+    }
+    if sk.sun_altitude_deg > 0.0 {
+        let white: f64 = LUX_RGB.iter().sum();
+        e_f += sk.sun_radiance * white * sun_omega * dot(sk.sun_dir, n_f).max(0.0);
+    }
+    rho * e_f / PI
 }
 
 /// Outward azimuths (degrees east of north) of the room's windows.

@@ -27,7 +27,7 @@ pub fn fit(f: &Fitter, base: &[Effect]) -> Option<Effect> {
     let sim = f.predict(&base);
     let ns = f.m.nsens();
     let mut factors: Vec<(usize, f64)> = Vec::new();
-    let mut best = f.score_sim(&sim).bic(0);
+    let mut best = f.score_sim(&sim).bic(0.0);
     loop {
         // Mean log residual (measured / simulated) per sensor under the current flags.
         let mut sum = vec![0.0; ns];
@@ -133,7 +133,7 @@ mod tests {
         let sigma = crate::score::DEFAULT_SENSOR_SIGMA;
         (
             score(&fixed, &meas, &sens, ns, sigma).bic(fault.n_params()),
-            score(&sim, &meas, &sens, ns, sigma).bic(0),
+            score(&sim, &meas, &sens, ns, sigma).bic(0.0),
         )
     }
 
