@@ -24,6 +24,9 @@ import subprocess
 import sys
 import tempfile
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from radiance_env import radiance_env  # noqa: E402
+
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 REL = os.path.join(os.environ.get("CARGO_TARGET_DIR", os.path.join(ROOT, "target")), "release")
 EPW = os.path.join(ROOT, "examples", "weather", "GBR_London.Gatwick.037760_IWEC.epw")
@@ -31,14 +34,6 @@ FIX = os.path.join(ROOT, "radiance-fixtures")
 ROOM = os.path.join(ROOT, "examples", "room")
 
 
-def radiance_env():
-    import pyradiance
-
-    root = os.path.dirname(pyradiance.__file__)
-    env = dict(os.environ)
-    env["PATH"] = os.path.join(root, "bin") + os.pathsep + env.get("PATH", "")
-    env["RAYPATH"] = "." + os.pathsep + os.path.join(root, "lib")
-    return env
 
 
 ENV = radiance_env()

@@ -23,20 +23,15 @@ import sys
 import tempfile
 import time
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from radiance_env import radiance_env  # noqa: E402
+
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 FIX = os.path.join(ROOT, "radiance-fixtures")
 BIN = os.path.join(ROOT, "target", "release")
 Y = (47.45394, 119.94894, 11.59712)
 
 
-def radiance_env():
-    import pyradiance
-
-    root = os.path.dirname(pyradiance.__file__)
-    env = dict(os.environ)
-    env["PATH"] = os.path.join(root, "bin") + os.pathsep + env.get("PATH", "")
-    env["RAYPATH"] = "." + os.pathsep + os.path.join(root, "lib")
-    return env
 
 
 def run(cmd, stdin_path, out_path, env=None, cwd=FIX):

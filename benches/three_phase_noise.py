@@ -28,6 +28,9 @@ import statistics
 import subprocess
 import sys
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from radiance_env import radiance_env  # noqa: E402
+
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 EX = os.path.join(ROOT, "examples", "shading")
 BIN = os.environ.get("RDAYLIGHT_BIN") or os.path.join(
@@ -42,14 +45,6 @@ V_OPTS = ["-ab", "5", "-lw", "1e-5"]
 D_OPTS = ["-ab", "2", "-ad", "1000", "-lw", "1e-4"]
 
 
-def radiance_env():
-    import pyradiance
-
-    root = os.path.dirname(pyradiance.__file__)
-    env = dict(os.environ)
-    env["PATH"] = os.path.join(root, "bin") + os.pathsep + env.get("PATH", "")
-    env["RAYPATH"] = "." + os.pathsep + os.path.join(root, "lib")
-    return env
 
 
 def run(cmd, stdin_bytes, env=None):
