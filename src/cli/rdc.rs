@@ -18,6 +18,7 @@
 //! | `-dj F` | source jitter | 0.9 | rcontrib `-dj` | shadow rays aim at the source centre; F widens the sun's highlight on flat surfaces by `(1-F) omega/4pi` as Radiance's shading does |
 //! | `-st F` | specular threshold | 0.02 | rcontrib `-st` | rough specular lobes at or below F are folded into the diffuse sample (`normal.c`) |
 //! | `-ss F` | specular sampling | 1 | rcontrib `-ss` | accepted and ignored: one sampled direction per specular vertex, Radiance's `-ss 1` weighting |
+//! | `--no-portals` | no window portals | portals on | | the material's cosine sample alone (see `crate::trace::portals`) |
 //! | `--preset P` | `draft`: -ab 3 -ad 1024 -lw 1e-3; `standard`: -ab 5 -ad 4096 -lw 1e-4; `converged`: -ab 7 -ad 16384 -lw 1e-5 | | | |
 //!
 //! Preset figures: [`Preset`] (docs/benchmarking.md).
@@ -102,6 +103,13 @@ pub struct Options {
     /// omega/4pi, as Radiance's shading does. No effect on -m/--suns coefficients.
     #[arg(value_parser = super::finite, long = "dj", value_name = "F")]
     pub dj: Option<f64>,
+
+    /// Do not sample the window panes as portals. By default, at the sensor and at every
+    /// Lambertian vertex, one extra shadow ray goes through a glass pane that has the sky
+    /// behind it and is combined with the cosine sample by multiple importance sampling:
+    /// the same expected values with less noise in side-lit rooms (docs/performance.md).
+    #[arg(long = "no-portals")]
+    pub no_portals: bool,
 
     /// Ambient accuracy (rcontrib -aa): accepted and ignored, as rcontrib and rfluxmtx
     /// override it with 0 (rcmain.c): rdc never caches irradiance (pure Monte Carlo, the
@@ -422,6 +430,7 @@ impl Options {
             dj: self.dj.unwrap_or(base.dj),
             st: self.st.unwrap_or(base.st),
             ss: self.ss.unwrap_or(base.ss),
+            portals: !self.no_portals,
         }
     }
 

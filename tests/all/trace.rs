@@ -216,6 +216,7 @@ fn furnace_av(ab: u32) -> Vec<f64> {
         lw: 1e-5,
         max_depth: 10,
         ambient_value: Some(Color::splat(3, 1.0)),
+        portals: true,
     };
     let mut rng = Pcg64::seed_from_u64(3);
     sensors("sensors/furnace.pts")

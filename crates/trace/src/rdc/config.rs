@@ -56,6 +56,9 @@ pub struct Sampling {
     pub st: f64,
     /// Specular sampling (accepted; one direction per specular vertex).
     pub ss: f64,
+    /// Sample the window panes as portals at Lambertian vertices (`crate::trace::portals`;
+    /// `--no-portals` turns it off): the same expectation with less noise.
+    pub portals: bool,
 }
 
 impl Sampling {
@@ -82,6 +85,7 @@ impl Default for Sampling {
             dj: RCONTRIB_DJ,
             st: RCONTRIB_ST,
             ss: RCONTRIB_SS,
+            portals: true,
         }
     }
 }

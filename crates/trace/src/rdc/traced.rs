@@ -24,6 +24,7 @@ use crate::radiometry::MAX_SAMPLES;
 use crate::trace::integrator::{PathSink, SENSOR_OFFSET};
 use crate::trace::reweight::{Events, Tracking};
 use crate::trace::{PathLimits, Renderable};
+use rand::Rng as _;
 use std::f64::consts::PI;
 use std::sync::atomic::{AtomicU64, Ordering};
 
@@ -49,6 +50,7 @@ impl Traced {
             lw: p.lw,
             max_depth,
             ambient_value: None,
+            portals: p.portals,
         };
         Traced {
             scene,
@@ -189,6 +191,30 @@ impl Traced {
     }
 }
 
+impl Traced {
+    /// An `-I` sensor sample's start: the offset point, unit normal, stratified cosine
+    /// direction and the portal sample's three numbers (its point on the pane stratified
+    /// like the direction, so a batch's portal samples cover the panes evenly).
+    fn sensor_start(
+        &self,
+        q: &Query,
+        stratum: Stratum,
+        rng: &mut Rng,
+    ) -> (Vec3, Vec3, Vec3, (f64, f64, f64)) {
+        let nn = Vec3::from(q.dir).normalize();
+        let (u, v) = stratum.unit_square(rng);
+        let d = Vec3::from(cosine_hemisphere(nn.to_array(), u, v));
+        let p = Vec3::from(q.org) + nn * SENSOR_OFFSET;
+        let nee = if self.params.portals && self.scene.portal_count() > 0 {
+            let (a, b) = stratum.unit_square(rng);
+            (rng.random(), a, b)
+        } else {
+            (0.0, 0.0, 0.0)
+        };
+        (p, nn, d, nee)
+    }
+}
+
 impl Estimator for Traced {
     fn sample(&self, q: &Query, mode: &Mode, stratum: Stratum, rng: &mut Rng, tally: &mut Tally) {
         let mut buf: Buf = [0.0; MAX_SAMPLES];
@@ -207,45 +233,65 @@ impl Estimator for Traced {
                 } else {
                     &self.params
                 };
-                // A sensor sample leaves along a stratified cosine direction with weight
-                // 1/-ad and counts pi x throughput; a view ray is the primary ray itself.
-                let (org, dir, from_sensor, w0, scale) = match quantity {
+                // Escapes go straight into the tally (no per-sample allocation).
+                let track = self.track.as_ref();
+                let scale = match quantity {
+                    Quantity::Irradiance => PI,
+                    Quantity::Radiance => 1.0,
+                };
+                let mut escape = |e: Vec3, beta: Color, events: &Events| {
+                    let d = e.to_array();
+                    let bin = if *below_horizon && d[2] < 0.0 {
+                        patches.len() + patches.bin_of([d[0], d[1], -d[2]])
+                    } else {
+                        patches.bin_of(d)
+                    };
+                    if track.is_some() {
+                        add_term(tally, bin, &beta, scale, *events, &mut buf);
+                    } else {
+                        add_color(tally, bin, &beta, scale, &mut buf);
+                    }
+                };
+                let rays = match quantity {
+                    // A sensor sample leaves along a stratified cosine direction with weight
+                    // 1/-ad (and samples the windows' portals) and counts pi x throughput.
                     Quantity::Irradiance => {
                         if params.ab == 0 {
                             return; // -ab 0: a sensor sees no glow (radiance-notes 12.8).
                         }
-                        let (u, v) = stratum.unit_square(rng);
-                        let d = cosine_hemisphere(n.normalize().to_array(), u, v);
-                        let org = Vec3::from(q.org) + n.normalize() * SENSOR_OFFSET;
-                        (org, Vec3::from(d), true, self.w0, PI)
+                        let (p, nn, d, nee) = self.sensor_start(q, stratum, rng);
+                        self.scene
+                            .sensor_sample(
+                                p,
+                                nn,
+                                d,
+                                nee,
+                                true,
+                                self.w0,
+                                params,
+                                rng,
+                                track,
+                                &mut escape,
+                            )
+                            .1
                     }
-                    Quantity::Radiance => (Vec3::from(q.org), n, false, 1.0, 1.0),
+                    // A view ray is the primary ray itself.
+                    Quantity::Radiance => {
+                        self.scene
+                            .path_sample(
+                                Vec3::from(q.org),
+                                n,
+                                false,
+                                true,
+                                1.0,
+                                params,
+                                rng,
+                                track,
+                                &mut escape,
+                            )
+                            .1
+                    }
                 };
-                // Escapes go straight into the tally (no per-sample allocation).
-                let track = self.track.as_ref();
-                let (_, rays) = self.scene.path_sample(
-                    org,
-                    dir,
-                    from_sensor,
-                    true,
-                    w0,
-                    params,
-                    rng,
-                    track,
-                    &mut |e, beta, events| {
-                        let d = e.to_array();
-                        let bin = if *below_horizon && d[2] < 0.0 {
-                            patches.len() + patches.bin_of([d[0], d[1], -d[2]])
-                        } else {
-                            patches.bin_of(d)
-                        };
-                        if track.is_some() {
-                            add_term(tally, bin, &beta, scale, *events, &mut buf);
-                        } else {
-                            add_color(tally, bin, &beta, scale, &mut buf);
-                        }
-                    },
-                );
                 self.rays.fetch_add(rays, Ordering::Relaxed);
             }
             (quantity, Mode::Flux { receivers }) => {
@@ -325,14 +371,12 @@ impl Estimator for Traced {
                 let org = Vec3::from(q.org) + nn * SENSOR_OFFSET;
                 let mut e = self.scene.direct_irradiance(org, nn);
                 if self.params.ab > 0 {
-                    let d = {
-                        let (u, v) = stratum.unit_square(rng);
-                        Vec3::from(cosine_hemisphere(n.normalize().to_array(), u, v))
-                    };
-                    let (l, rays) = self.scene.path_sample(
-                        org,
+                    let (p, nn, d, nee) = self.sensor_start(q, stratum, rng);
+                    let (l, rays) = self.scene.sensor_sample(
+                        p,
+                        nn,
                         d,
-                        true,
+                        nee,
                         false,
                         self.w0,
                         &self.params,

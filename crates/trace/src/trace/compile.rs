@@ -69,6 +69,8 @@ pub struct Renderable {
     pub(super) patterned: Vec<Option<std::sync::Arc<PatternedMaterial>>>,
     pub(super) sources: Sources,
     pub(super) ncomp: usize,
+    /// Window panes sampled by next-event estimation ([`super::portals`]).
+    pub(super) portals: super::portals::Portals,
 }
 
 impl std::fmt::Debug for Renderable {
@@ -511,6 +513,8 @@ impl Renderable {
         let mut mat_index: std::collections::HashMap<(usize, Vec<usize>), u32> = Default::default();
         let mut patterned: Vec<Option<std::sync::Arc<PatternedMaterial>>> = Vec::new();
         let mut sources = Sources::default();
+        // Top-level glass polygons: candidate portals (`super::portals`).
+        let mut panes: Vec<super::portals::Portal> = Vec::new();
         let cal = ScenePatterns::new(scene, ch);
         for (i, unit) in order {
             let o = &scene.objects[i];
@@ -640,6 +644,13 @@ impl Renderable {
                 Error::parse(o.loc.clone(), format!("{} '{}': {e}", o.type_name(), o.id))
             })?;
             let flat = matches!(shape, Shape::Polygon { .. } | Shape::Ring { .. });
+            if let (None, Shape::Polygon { vertices }, Material::Glass(_)) =
+                (unit, &shape, &materials[mi as usize])
+            {
+                if panes.len() <= super::portals::MAX_PORTALS {
+                    panes.extend(super::portals::Portal::new(vertices));
+                }
+            }
             match unit {
                 None => geo.push(GeoObject {
                     shape,
@@ -687,7 +698,7 @@ impl Renderable {
             })
             .collect();
         let bvh = Bvh::build_placed(&geo, placed).map_err(|e| build_error(e, 0))?;
-        Ok(Renderable {
+        let mut r = Renderable {
             bvh,
             surfaces,
             materials,
@@ -695,7 +706,15 @@ impl Renderable {
             patterned,
             sources,
             ncomp: ch.ncomp.max(1),
-        })
+            portals: Default::default(),
+        };
+        r.portals = r.find_portals(panes);
+        Ok(r)
+    }
+
+    /// Number of window panes sampled as portals ([`super::portals`]).
+    pub fn portal_count(&self) -> usize {
+        self.portals.len()
     }
 
     /// The material of index `k` at a hit (`dir` the ray direction, `h` the hit): the

@@ -87,6 +87,9 @@ pub struct PathLimits {
     pub max_depth: u32,
     /// Ambient value `-av` returned by diffuse lobes past `-ab` (None = black).
     pub ambient_value: Option<Color>,
+    /// Sample the scene's window panes at Lambertian vertices ([`super::portals`]): same
+    /// expectation, less noise in side-lit rooms.
+    pub portals: bool,
 }
 
 impl PathLimits {
@@ -97,6 +100,7 @@ impl PathLimits {
             lw: 2e-3,
             max_depth: 10,
             ambient_value: None,
+            portals: true,
         }
     }
 
@@ -107,6 +111,7 @@ impl PathLimits {
             lw: 1e-4,
             max_depth: 10,
             ambient_value: None,
+            portals: true,
         }
     }
 }
@@ -239,6 +244,35 @@ struct PathState {
     depth: u32,
     /// Tracked materials met (re-weighting records, [`super::reweight`]).
     events: Events,
+    /// Set while the path goes straight on from a vertex whose light through the windows
+    /// was also sampled by the portals: the two strategies' densities for its direction.
+    mis: Option<Mis>,
+}
+
+/// Densities of the last vertex's two strategies for the path's direction (solid angle):
+/// the material's cosine sample and the portal sample. An escape reached straight through
+/// glass from that vertex counts with the balance heuristic `pb / (pb + pn)`.
+#[derive(Clone, Copy)]
+struct Mis {
+    pb: f64,
+    pn: f64,
+}
+
+impl Mis {
+    fn weight(self) -> f64 {
+        self.pb / (self.pb + self.pn)
+    }
+}
+
+/// The material of a vertex where the portals are sampled: Lambertian (`plastic`/`metal`
+/// without specularity), its reflectance.
+fn lambertian(m: &Material) -> Option<Color> {
+    match m {
+        Material::Ward(w) if w.spec == 0.0 && w.trans == 0.0 && w.color.mean() > 0.0 => {
+            Some(w.color)
+        }
+        _ => None,
+    }
 }
 
 /// Jittered-stratified cosine samples: index `k` of `n`.
@@ -369,6 +403,169 @@ impl Renderable {
         None
     }
 
+    /// A ray from `org` along `dir` that passes only `glass` panes and escapes: the panes'
+    /// transmission (each `glass.c`'s transmitted coefficient, as the path's own crossing
+    /// weighs it), how many it crossed and, with `track`, the tracked crossings. `None` when
+    /// anything else is in the way. This is exactly the set of paths a material's sample
+    /// reaches the sky by straight through glass, which the portal strategy also samples
+    /// ([`super::portals`]).
+    fn through_glass(
+        &self,
+        org: Vec3,
+        dir: Vec3,
+        rays: &mut u64,
+        track: Option<&Tracking>,
+    ) -> Option<(Color, u32, Events)> {
+        let mut events = Events::default();
+        let mut t = Color::splat(self.ncomp, 1.0);
+        let mut ray = Ray { org, dir };
+        for k in 0..32u32 {
+            let Some(h) = self.cast(&ray, rays) else {
+                return Some((t, k, events));
+            };
+            let info = self.surfaces[h.object as usize];
+            let m_at = self.material_at(info.material, dir, &h);
+            let Material::Glass(g) = &*m_at else {
+                return None;
+            };
+            let (tg, _) = g.coefficients(dir.dot(h.normal).abs());
+            if let Some(tr) = track {
+                if scales_with_colour(&m_at, SampleKind::PureTransmit) {
+                    events.push(tr.of_at(info.material, dir.dot(h.normal)));
+                }
+            }
+            t = t * tg;
+            if t.max() <= 0.0 {
+                return None;
+            }
+            ray = h.spawn(dir);
+        }
+        None
+    }
+
+    /// Decide which candidate panes are portals and on which side the room is (see
+    /// [`super::portals`]: probes from the pane's centroid on both sides, traced through
+    /// glass; the side whose probes escape is outside).
+    pub(super) fn find_portals(
+        &self,
+        panes: Vec<super::portals::Portal>,
+    ) -> super::portals::Portals {
+        use super::portals::{MAX_PORTALS, MIN_OUTSIDE, PROBE_RAYS, probe_rays};
+        if panes.is_empty() || panes.len() > MAX_PORTALS {
+            return Default::default();
+        }
+        let mut out = Vec::new();
+        for mut p in panes {
+            let (n, c) = p.frame();
+            let eps = 1e-6 * (1.0 + c.max_abs());
+            // Per side: the share of probes that escape, and of the falling probes (those
+            // heading below the horizon) how many there were and how many escaped.
+            let probe = |side: f64| {
+                let mut rays = 0;
+                let org = c + n * (side * eps);
+                let (mut esc, mut fall, mut fall_esc) = (0usize, 0usize, 0usize);
+                for r in probe_rays(org, n * side) {
+                    let through = self.through_glass(r.org, r.dir, &mut rays, None).is_some();
+                    esc += usize::from(through);
+                    if r.dir.z < 0.0 {
+                        fall += 1;
+                        fall_esc += usize::from(through);
+                    }
+                }
+                (esc as f64 / PROBE_RAYS as f64, fall, fall_esc)
+            };
+            let (front, back) = (probe(1.0), probe(-1.0));
+            let (outside, inside, sign) = if front.0 >= back.0 {
+                (front, back, -1.0)
+            } else {
+                (back, front, 1.0)
+            };
+            if outside.0 >= MIN_OUTSIDE && inside.0 <= 0.5 * outside.0 {
+                p.set_inside(sign);
+                // Modelled ground outside: falling directions almost never reach the sky.
+                let (fall, fall_esc) = (outside.1, outside.2);
+                p.set_rising_only(fall >= PROBE_RAYS / 8 && 10 * fall_esc < fall);
+                out.push(p);
+            }
+        }
+        super::portals::Portals::new(out)
+    }
+
+    /// Portal next-event estimation at a Lambertian vertex (reflectance `rho`, normal `n`
+    /// turned toward the viewer): one direction through a window pane, counted with the
+    /// balance heuristic against the vertex's continuation, the cosine sample mixed with
+    /// share `alpha` of falling portal samples ([`super::portals`]). Its
+    /// value goes where an escape of the path would: the sink (coefficients) or `out`
+    /// (values). `depth` is the vertex's path depth: the path's own crossings of the panes
+    /// would be cut at `-lr` (`max_depth`), so are these.
+    #[allow(clippy::too_many_arguments)]
+    fn portal_nee(
+        &self,
+        at: &super::portals::At,
+        x: &Hit,
+        n: Vec3,
+        rho: Color,
+        alpha: f64,
+        vertex_event: Option<u32>,
+        st: &PathState,
+        depth: u32,
+        params: &PathLimits,
+        mode: Mode,
+        (u, a, b): (f64, f64, f64),
+        rays: &mut u64,
+        track: Option<&Tracking>,
+        sink: &mut dyn PathSink,
+        out: &mut Color,
+    ) {
+        let Some((dir, pn)) = at.sample(u, a, b) else {
+            return;
+        };
+        let cos = n.dot(dir);
+        if cos <= 0.0 {
+            return;
+        }
+        let org = x.spawn_origin(dir);
+        let Some((t, k, shadow_ev)) = self.through_glass(org, dir, rays, track) else {
+            return;
+        };
+        if depth + k >= params.max_depth {
+            return;
+        }
+        // The continuation's density for `dir`: the mixture of the cosine sample and, with
+        // share `alpha`, the falling portal sample.
+        let m = (1.0 - alpha) * cos / PI
+            + if alpha > 0.0 {
+                alpha * at.fall_pdf(dir)
+            } else {
+                0.0
+            };
+        let beta = st.beta * rho * t;
+        // f cos / pn x the balance weight pn / (m + pn), f = rho / pi.
+        let beta = beta.scale(cos / (PI * (m + pn)));
+        match mode {
+            Mode::Coefficients => {
+                let mut ev = st.events;
+                if let (Some(tr), Some(k)) = (track, vertex_event) {
+                    ev.push(tr.of_at(k, dir.dot(x.normal)));
+                }
+                ev.extend(&shadow_ev);
+                sink.escape_to(
+                    self.sources.hit(dir),
+                    self.sources.is_empty(),
+                    dir,
+                    beta,
+                    &ev,
+                );
+            }
+            Mode::Values => {
+                if let Some(l) = self.sources.escape(dir, false) {
+                    *out += beta * l;
+                }
+            }
+            Mode::Suns => {}
+        }
+    }
+
     /// Direct light from distant `light` sources at a surface hit (`wo` towards the viewer).
     fn direct(&self, h: &Hit, m: &Material, s: &Surface, wo: Vec3, rays: &mut u64) -> Color {
         let mut out = Color::black(self.ncomp);
@@ -449,7 +646,7 @@ impl Renderable {
                     Mode::Suns => {}
                     Mode::Values => {
                         if let Some(l) = self.sources.escape(ray.dir, st.sees_sources) {
-                            out += st.beta * l;
+                            out += st.beta.scale(st.mis.map_or(1.0, Mis::weight)) * l;
                         }
                     }
                     Mode::Coefficients => {
@@ -457,7 +654,7 @@ impl Renderable {
                             self.sources.hit(ray.dir),
                             self.sources.is_empty(),
                             ray.dir,
-                            st.beta,
+                            st.beta.scale(st.mis.map_or(1.0, Mis::weight)),
                             &st.events,
                         );
                     }
@@ -476,6 +673,8 @@ impl Renderable {
             // (m_bsdf.c `raytrans`), staying the same ray.
             if let Material::Bsdf(b) = m {
                 if b.passes(wo.to_array(), &s, st.depth == 0) {
+                    // Not a path the portals sample (they pass glass only): full weight.
+                    st.mis = None;
                     ray = h.spawn(ray.dir);
                     continue;
                 }
@@ -510,9 +709,11 @@ impl Renderable {
                 // coefficient seen through a window.
                 let (t, r) = glass_branches(g, wo, &s);
                 if let Some(r) = r {
-                    if let Some((ray_r, st_r)) =
+                    if let Some((ray_r, mut st_r)) =
                         self.advance(&v, st, r, w0, params, mode, rng, track, &mut out)
                     {
+                        // The reflected ray turns: no longer a straight pass.
+                        st_r.mis = None;
                         out += self.walk(ray_r, st_r, w0, params, mode, rng, rays, track, sink);
                     }
                 }
@@ -528,12 +729,78 @@ impl Renderable {
                 }
                 continue;
             }
-            let (u1, u2, u3) = (rng.random(), rng.random(), rng.random());
-            let Some(smp) = sample_material(m, wo, &s, u1, u2, u3) else {
+            // The path scatters here: whatever it finds next is its own sample's alone.
+            st.mis = None;
+            // Portals at a Lambertian vertex whose diffuse sample may still go on (`-ab`).
+            let nee = match lambertian(m) {
+                Some(rho)
+                    if params.portals
+                        && mode != Mode::Suns
+                        && st.diffuse < params.ab
+                        && !self.portals.is_empty() =>
+                {
+                    let n = if wo.dot(h.normal) < 0.0 {
+                        -h.normal
+                    } else {
+                        h.normal
+                    };
+                    self.portals.at(h.point, n).map(|at| (at, n, rho))
+                }
+                _ => None,
+            };
+            let smp = match &nee {
+                Some((at, n, rho)) => {
+                    let event = (track.is_some()
+                        && scales_with_colour(m, SampleKind::DiffuseReflect))
+                    .then_some(info.material);
+                    let alpha = at.fall_share();
+                    let u = (rng.random(), rng.random(), rng.random());
+                    self.portal_nee(
+                        at, &h, *n, *rho, alpha, event, &st, st.depth, params, mode, u, rays,
+                        track, sink, &mut out,
+                    );
+                    // The continuation: with share `alpha` through the panes below the
+                    // vertex, else cosine-distributed; weighed by the mixture's density.
+                    let (u1, u2, u3): (f64, f64, f64) = (rng.random(), rng.random(), rng.random());
+                    let wi = if u1 < alpha {
+                        match at.sample_fall(u1 / alpha, u2, u3) {
+                            Some(d) => d,
+                            None => return out,
+                        }
+                    } else {
+                        Vec3::from(cosine_hemisphere(n.to_array(), u2, u3))
+                    };
+                    let cos = n.dot(wi);
+                    if cos <= 0.0 {
+                        return out;
+                    }
+                    let mix = (1.0 - alpha) * cos / PI
+                        + if alpha > 0.0 {
+                            alpha * at.fall_pdf(wi)
+                        } else {
+                            0.0
+                        };
+                    Some((
+                        crate::material::Sample {
+                            wi: wi.to_array(),
+                            weight: rho.scale(cos / (PI * mix)),
+                            kind: SampleKind::DiffuseReflect,
+                        },
+                        mix,
+                        at.pdf(wi),
+                    ))
+                }
+                None => {
+                    let (u1, u2, u3) = (rng.random(), rng.random(), rng.random());
+                    sample_material(m, wo, &s, u1, u2, u3).map(|smp| (smp, 0.0, 0.0))
+                }
+            };
+            let Some((smp, mix, pn)) = smp else {
                 return out;
             };
             match self.advance(&v, st, smp, w0, params, mode, rng, track, &mut out) {
-                Some((r, next)) => {
+                Some((r, mut next)) => {
+                    next.mis = (pn > 0.0).then_some(Mis { pb: mix, pn });
                     ray = r;
                     st = next;
                 }
@@ -648,6 +915,7 @@ impl Renderable {
                 diffuse: 1,
                 depth: 1,
                 events: Events::default(),
+                mis: None,
             };
             sample_total.iter_mut().for_each(|x| *x = 0.0);
             let mut rays = 0;
@@ -724,6 +992,7 @@ impl Renderable {
                 diffuse: 1,
                 depth: 1,
                 events: Events::default(),
+                mis: None,
             };
             let l = self.walk(
                 Ray { org: p, dir },
@@ -768,6 +1037,7 @@ impl Renderable {
             diffuse: 0,
             depth: 0,
             events: Events::default(),
+            mis: None,
         };
         let mut rays = 0;
         let l = self.walk(
@@ -815,6 +1085,7 @@ impl Renderable {
             diffuse: u32::from(from_sensor),
             depth: u32::from(from_sensor),
             events: Events::default(),
+            mis: None,
         };
         let mode = if coefficients {
             Mode::Coefficients
@@ -834,6 +1105,98 @@ impl Renderable {
             &mut Escapes(escape),
         );
         (l, rays)
+    }
+
+    /// One sample of an `-I` sensor at `p` (already offset from its surface) with unit
+    /// normal `normal`: the cosine-distributed path along `dir` (diffuse bounce 1, as in
+    /// [`Renderable::path_sample`] with `from_sensor`) and, when the scene has portals and
+    /// `params.portals`, a portal sample through the window panes from `nee = (u, a, b)`,
+    /// the two combined by the balance heuristic ([`super::portals`]): the sensor is a
+    /// white Lambertian surface, the first vertex of both strategies. Escapes (coefficient
+    /// mode) go to `escape` with the throughput the caller scales by pi; in value mode the
+    /// radiance found (sky light through the windows included) is returned, to be scaled
+    /// by pi likewise. Returns the value and the rays cast.
+    #[allow(clippy::too_many_arguments)]
+    pub fn sensor_sample(
+        &self,
+        p: Vec3,
+        normal: Vec3,
+        dir: Vec3,
+        nee: (f64, f64, f64),
+        coefficients: bool,
+        w0: f64,
+        params: &PathLimits,
+        rng: &mut impl Rng,
+        track: Option<&Tracking>,
+        escape: &mut dyn FnMut(Vec3, Color, &Events),
+    ) -> (Color, u64) {
+        let nc = self.ncomp;
+        let mut st = PathState {
+            beta: Color::splat(nc, 1.0),
+            sees_sources: false,
+            diffuse: 1,
+            depth: 1,
+            events: Events::default(),
+            mis: None,
+        };
+        let mode = if coefficients {
+            Mode::Coefficients
+        } else {
+            Mode::Values
+        };
+        let mut rays = 0;
+        let mut out = Color::black(nc);
+        let mut sink = Escapes(escape);
+        if params.portals && params.ab > 0 && !self.portals.is_empty() {
+            if let Some(at) = self.portals.at(p, normal) {
+                let x = Hit {
+                    t: 0.0,
+                    point: p,
+                    normal,
+                    object: u32::MAX,
+                    front: true,
+                };
+                let start = PathState {
+                    diffuse: 0,
+                    depth: 0,
+                    ..st
+                };
+                self.portal_nee(
+                    &at,
+                    &x,
+                    normal,
+                    Color::splat(nc, 1.0),
+                    0.0,
+                    None,
+                    &start,
+                    0,
+                    params,
+                    mode,
+                    nee,
+                    &mut rays,
+                    track,
+                    &mut sink,
+                    &mut out,
+                );
+                let pn = at.pdf(dir);
+                st.mis = (pn > 0.0).then_some(Mis {
+                    pb: normal.dot(dir).max(0.0) / PI,
+                    pn,
+                });
+            }
+        }
+        let l = self.walk(
+            Ray { org: p, dir },
+            st,
+            w0,
+            params,
+            mode,
+            rng,
+            &mut rays,
+            track,
+            &mut sink,
+        );
+        (out + l, rays)
     }
 
     /// One coefficient path from `org` along `dir` whose escapes and emitter hits go to
@@ -904,6 +1267,7 @@ impl Renderable {
             diffuse: u32::from(start.from_sensor),
             depth: u32::from(start.from_sensor),
             events: Events::default(),
+            mis: None,
         };
         let mut rays = 0;
         self.walk(

@@ -12,6 +12,7 @@
 //! | [`expand`] | `mesh` (compiled mesh or `.obj`) and `instance` (octree) primitives flattened into surfaces, materials resolved as Radiance does |
 //! | [`reweight`] | path re-weighting records: coefficients as polynomials in material reflectances, their file and [`reweight::Reweighting::apply`] |
 //! | [`sources`] | distant `source`s: the sun (`light`), glow skies with `skybright.cal` / `perezlum.cal` patterns, Radiance's `sourcehit` |
+//! | [`portals`] | window panes as portals: next-event estimation of sky light through glazing, combined with the material's sample by multiple importance sampling |
 //! | [`integrator`] | [`Renderable::dc_sensor`], [`Renderable::irradiance`], [`Renderable::radiance`] |
 //!
 //! Randomness comes only from the `&mut impl rand::Rng` each call takes, so a driver that
@@ -41,6 +42,7 @@
 pub mod compile;
 pub mod expand;
 pub mod integrator;
+pub mod portals;
 pub mod reweight;
 pub mod sources;
 
@@ -51,4 +53,5 @@ pub use sources::{DistantKind, DistantSource, SkyPattern, Sources};
 /// Revision of the path tracer's sampling: change it whenever a given seed starts giving
 /// other numbers (another random stream, a new estimator), so caches of traced results
 /// (rcalib's coefficient cache) do not mix runs of two tracers.
-pub const REVISION: &str = "2026-11-21b: spectra to RGB by Radiance's observer tables";
+pub const REVISION: &str =
+    "2026-11-28: window portals (next-event estimation of the sky, falling continuation)";
