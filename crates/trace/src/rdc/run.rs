@@ -17,7 +17,7 @@ use super::config::{Config, IRRADIANCE_OFFSET, MAX_MF, RPICT_RES, SunSource, Tar
 use super::intake;
 use super::output::{self, Sink};
 use super::traced::Traced;
-use super::tracer::{Estimator, Mode, Quantity, Query, Rng, Stratum, SunDisc, Tally, record_rng};
+use super::tracer::{Estimator, Mode, Quantity, Query, Rng, Stratum, SunDisc, Tally, chunk_rng};
 use crate::error::{Error, Location, Result};
 use crate::formats::matrix::DataFormat;
 use crate::formats::sensors::{RayFormat, RayReader, SensorRay};
@@ -77,6 +77,10 @@ impl Rows {
 pub const BLOCK_BYTES: usize = 64 << 20;
 /// Records per block at most (keeps progress reports and latency reasonable).
 pub const BLOCK_RECORDS: usize = 4096;
+/// Samples per chunk: the unit of work below a record ([`Job::compute`]). Big enough that a
+/// chunk's tally costs little next to its paths, small enough that a record of `-ad 10000`
+/// spreads over 20 workers.
+pub const CHUNK: usize = 512;
 
 /// One record's result.
 #[derive(Debug, Clone, PartialEq)]
@@ -110,26 +114,48 @@ pub struct Job<'a> {
 impl Job<'_> {
     /// Compute record `index`; `query` gives the sample's ray (`None`: a zero sample, e.g. a
     /// flush ray or a pixel corner outside a fisheye).
+    ///
+    /// Each batch of `-ad` samples is cut into chunks of [`CHUNK`] samples (the last one
+    /// shorter) computed in parallel, each from its own random stream
+    /// ([`super::tracer::chunk_rng`]) into its own tally, and the chunks' tallies are added
+    /// in chunk order: the result depends on `-s`, `-ad` and the record's index, never on
+    /// how many threads share the work, and a few records with many samples spread over
+    /// every core.
     pub fn compute(
         &self,
         index: u64,
-        query: &dyn Fn(Stratum, &mut Rng) -> Option<Query>,
+        query: &(dyn Fn(Stratum, &mut Rng) -> Option<Query> + Sync),
         tally: &mut Tally,
     ) -> RecordResult {
         tally.clear();
-        let mut rng = record_rng(self.seed, index);
+        let nchunks = self.ad.div_ceil(CHUNK).max(1);
+        let mut batch = 0u64;
         loop {
-            for k in 0..self.ad {
-                let stratum = Stratum {
-                    index: k,
-                    count: self.ad,
-                };
-                if let Some(q) = query(stratum, &mut rng) {
-                    self.estimator
-                        .sample(&q, &self.mode, stratum, &mut rng, tally);
+            let chunk = |c: usize| {
+                let mut part = tally.empty_like();
+                let mut rng = chunk_rng(self.seed, index, batch * nchunks as u64 + c as u64);
+                for k in c * CHUNK..((c + 1) * CHUNK).min(self.ad) {
+                    let stratum = Stratum {
+                        index: k,
+                        count: self.ad,
+                    };
+                    if let Some(q) = query(stratum, &mut rng) {
+                        self.estimator
+                            .sample(&q, &self.mode, stratum, &mut rng, &mut part);
+                    }
+                    part.end_sample();
                 }
-                tally.end_sample();
+                part
+            };
+            if nchunks == 1 {
+                tally.merge(&chunk(0));
+            } else {
+                let parts: Vec<Tally> = (0..nchunks).into_par_iter().map(chunk).collect();
+                for p in &parts {
+                    tally.merge(p);
+                }
             }
+            batch += 1;
             match self.target_se {
                 None => break,
                 Some(t) => {
@@ -144,6 +170,7 @@ impl Job<'_> {
                 }
             }
         }
+        self.estimator.add_rays(tally.rays());
         let mut values = vec![0.0; tally.ncols() * tally.ncomp()];
         tally.mean_into(&mut values);
         RecordResult {

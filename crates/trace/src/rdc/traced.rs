@@ -187,7 +187,7 @@ impl Traced {
             self.track.as_ref(),
             &mut sink,
         );
-        self.rays.fetch_add(rays, Ordering::Relaxed);
+        sink.tally.add_rays(rays);
     }
 }
 
@@ -216,6 +216,10 @@ impl Traced {
 }
 
 impl Estimator for Traced {
+    fn add_rays(&self, n: u64) {
+        self.rays.fetch_add(n, Ordering::Relaxed);
+    }
+
     fn sample(&self, q: &Query, mode: &Mode, stratum: Stratum, rng: &mut Rng, tally: &mut Tally) {
         let mut buf: Buf = [0.0; MAX_SAMPLES];
         let n = Vec3::from(q.dir);
@@ -292,7 +296,7 @@ impl Estimator for Traced {
                             .1
                     }
                 };
-                self.rays.fetch_add(rays, Ordering::Relaxed);
+                tally.add_rays(rays);
             }
             (quantity, Mode::Flux { receivers }) => {
                 // As sky coefficients: a sensor's stratified cosine sample with weight
@@ -325,7 +329,7 @@ impl Estimator for Traced {
                     rng,
                     &mut sink,
                 );
-                self.rays.fetch_add(rays, Ordering::Relaxed);
+                tally.add_rays(rays);
             }
             (Quantity::Irradiance, Mode::Suns { suns, bounces }) => {
                 let org = Vec3::from(q.org) + n.normalize() * SENSOR_OFFSET;
@@ -384,7 +388,7 @@ impl Estimator for Traced {
                         None,
                         &mut |_, _, _| {},
                     );
-                    self.rays.fetch_add(rays, Ordering::Relaxed);
+                    tally.add_rays(rays);
                     e += l.scale(PI);
                 }
                 add_color(tally, 0, &e, 1.0, &mut buf);
@@ -401,7 +405,7 @@ impl Estimator for Traced {
                     None,
                     &mut |_, _, _| {},
                 );
-                self.rays.fetch_add(rays, Ordering::Relaxed);
+                tally.add_rays(rays);
                 add_color(tally, 0, &l, 1.0, &mut buf);
             }
         }

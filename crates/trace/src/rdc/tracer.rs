@@ -52,6 +52,26 @@ pub fn record_rng(seed: u64, index: u64) -> Rng {
     Rng::new(state, u128::from(index) << 1 | 1)
 }
 
+/// The generator of chunk `chunk` of record `index` ([`super::run::Job::compute`] cuts a
+/// record's samples into chunks): chunk 0 is [`record_rng`]`(seed, index)` itself, so a
+/// record of one chunk draws exactly what it drew before records were cut; the others are
+/// spread from (seed, index, chunk) with SplitMix64 like it.
+pub fn chunk_rng(seed: u64, index: u64, chunk: u64) -> Rng {
+    if chunk == 0 {
+        return record_rng(seed, index);
+    }
+    let mix = |mut z: u64| {
+        z = z.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        z ^ (z >> 31)
+    };
+    let a = mix(seed ^ mix(index ^ mix(chunk ^ 0x243f_6a88_85a3_08d3)));
+    let b = mix(a ^ 0x1319_8a2e_0370_7344);
+    let state = (u128::from(a) << 64) | u128::from(b);
+    Rng::new(state, u128::from(index) << 1 | 1)
+}
+
 /// What a record measures at its ray.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Quantity {
@@ -138,6 +158,10 @@ impl Mode<'_> {
 
 /// The light transport behind the driver. `Sync`: one estimator serves every thread.
 pub trait Estimator: Sync {
+    /// Count `n` rays cast for a finished record (the samples count theirs in their
+    /// [`Tally`], so threads do not share a counter per sample).
+    fn add_rays(&self, _n: u64) {}
+
     /// Trace ONE sample of record `query` and add its contributions with [`Tally::add`]
     /// (any number of calls, any columns, each `ncomp` values). The driver closes the sample
     /// ([`Tally::end_sample`]) afterwards; adding nothing is a zero sample. `stratum` is the
@@ -193,6 +217,8 @@ pub struct Tally {
     row_sumsq: f64,
     /// Re-weighting terms per (column, signature), when the run records them.
     terms: Option<TermTally>,
+    /// Rays cast ([`Tally::rays`]).
+    rays: u64,
 }
 
 impl Tally {
@@ -210,6 +236,7 @@ impl Tally {
             samples: 0,
             row_sumsq: 0.0,
             terms: None,
+            rays: 0,
         }
     }
 
@@ -245,6 +272,43 @@ impl Tally {
         }
     }
 
+    /// A zeroed tally of the same shape and weights (keeping terms if this one does).
+    pub fn empty_like(&self) -> Tally {
+        let t = Tally::new(self.ncols, self.ncomp, &self.weights);
+        if self.terms.is_some() {
+            t.with_terms()
+        } else {
+            t
+        }
+    }
+
+    /// Add the closed samples of `other` (same shape) to this tally: the result is the tally
+    /// of both sets of samples (sums, sums of squares, counts, terms).
+    pub fn merge(&mut self, other: &Tally) {
+        for (a, b) in self.sum.iter_mut().zip(&other.sum) {
+            *a += b;
+        }
+        for (a, b) in self.sumsq.iter_mut().zip(&other.sumsq) {
+            *a += b;
+        }
+        self.samples += other.samples;
+        self.row_sumsq += other.row_sumsq;
+        self.rays += other.rays;
+        if let (Some(a), Some(b)) = (&mut self.terms, &other.terms) {
+            a.merge(b);
+        }
+    }
+
+    /// Rays cast for this tally's samples (closest-hit and shadow queries of paths).
+    pub fn rays(&self) -> u64 {
+        self.rays
+    }
+
+    /// Count `n` more rays ([`Tally::rays`]).
+    pub fn add_rays(&mut self, n: u64) {
+        self.rays += n;
+    }
+
     /// Forget everything (next record).
     pub fn clear(&mut self) {
         self.sum.iter_mut().for_each(|v| *v = 0.0);
@@ -255,6 +319,7 @@ impl Tally {
         self.touched.clear();
         self.samples = 0;
         self.row_sumsq = 0.0;
+        self.rays = 0;
         if let Some(t) = &mut self.terms {
             t.clear();
         }

@@ -378,6 +378,17 @@ impl TermTally {
         }
     }
 
+    /// Add another tally's sums (keys new to this one are appended in `other`'s order).
+    pub fn merge(&mut self, other: &TermTally) {
+        if other.keys.is_empty() {
+            return;
+        }
+        let k = other.sums.len() / other.keys.len();
+        for (i, &(col, sig)) in other.keys.iter().enumerate() {
+            self.add(col, sig, &other.sums[i * k..(i + 1) * k]);
+        }
+    }
+
     /// The record's terms, sorted, each sum divided by `samples`.
     pub fn terms(&self, ncomp: usize, samples: u64) -> Vec<(u32, Signature, Vec<f64>)> {
         let n = samples.max(1) as f64;
