@@ -13,8 +13,11 @@ Rows (each needs pyradiance's Radiance 6 binaries, `make radiance`):
   scene 1M triangles   rdc -ab 0 (load + BVH, one sensor)
                                                   vs oconv + rtrace -ab 0 (one ray)
   product MF 4         rmtx dc sky                vs dctimestep dc sky (165 x 2306 x 8760)
-The main job's peak memory step by step is benches/memory.sh's. The equal-noise rows (rdc vs rcontrib) take minutes per run and interpolate noise: they
-stay in benches/rdc_vs_rcontrib.py, whose last lines are appended when BENCH_NOISE=1.
+  equal noise         rdc at the -ad giving rcontrib -n 2 -ad 10000's per-sensor noise, both fixture
+                       rooms (benches/rdc_vs_rcontrib.py, minutes per room)
+  thread scaling      the same rdc job at -n 1 and -n 2 (CPU growth; same output bytes)
+The main job's peak memory step by step is benches/memory.sh's. BENCH_QUICK=1 skips the
+equal-noise and scaling rows.
 
 Usage: python3 benches/bench.py [RUNS]   (BENCH_DIR keeps inputs between runs)
 """
@@ -143,12 +146,43 @@ def main():
     for name, oc, ow, om, rc, rw, rm in rows:
         print(f"| {name} | {oc:.2f} | {ow:.2f} | {om:.1f} | {rc:.2f} | {rw:.2f} | {rm:.1f} | "
               f"{rc / max(oc, 1e-3):.2f}x | {rm / max(om, 1e-3):.2f}x |")
-    if os.environ.get("BENCH_NOISE"):
-        r = subprocess.run([sys.executable, os.path.join(ROOT, "benches", "rdc_vs_rcontrib.py")],
+    if os.environ.get("BENCH_QUICK"):
+        print("\n(BENCH_QUICK: the equal-noise and thread-scaling rows skipped)")
+        return
+    # Daylight coefficients at equal per-sensor noise (minutes per scene: three rcontrib runs
+    # at -ad 10000 and rdc at four -ad, its time interpolated at rcontrib's noise).
+    print("\n| daylight coefficients at equal noise (benches/rdc_vs_rcontrib.py) | per-sensor CV "
+          "(rcontrib's median) | rdc CPU s | rdc wall s | rcontrib -n 2 CPU s | rcontrib wall s | "
+          "CPU ratio | wall ratio |")
+    print("|---|---|---|---|---|---|---|---|")
+    for scene in ("furnished", "office"):
+        r = subprocess.run([sys.executable, os.path.join(ROOT, "benches", "rdc_vs_rcontrib.py"),
+                            "--scene", scene, "--ours", "500,1000,2000,4000", "--json"],
                            capture_output=True, text=True, env=ENV)
-        print("\nrdc vs rcontrib at equal noise (benches/rdc_vs_rcontrib.py):")
-        print("\n".join(r.stdout.strip().splitlines()[-3:]))
-
+        if r.returncode != 0:
+            sys.exit(f"bench.py: rdc_vs_rcontrib.py --scene {scene} failed: {r.stderr[-400:]}")
+        import json
+        j = json.loads(r.stdout.strip().splitlines()[-1])
+        print(f"| {scene} room, 165 sensors, -ab 5 -lw 1e-5, 2 threads | {100 * j['noise']:.2f} % | "
+              f"{j['rdc_cpu']:.2f} | {j['rdc_wall']:.2f} | {j['rcontrib_cpu']:.2f} | "
+              f"{j['rcontrib_wall']:.2f} | {j['rcontrib_cpu'] / j['rdc_cpu']:.1f}x | "
+              f"{j['rcontrib_wall'] / j['rdc_wall']:.1f}x |")
+    # Thread scaling: the same job (same bytes) at -n 1 and -n 2, CPU seconds.
+    job = (f"{REL}/rdc -I -ab 5 -ad 4000 -lw 1e-5 -s 1 -m 1 -faf {FIX}/scenes/furnished.rad "
+           f"{FIX}/scenes/sky_glow360.rad < {FIX}/sensors/office.pts > /dev/null")
+    one, two = [], []
+    for _ in range(runs):
+        one.append(timed(job.replace("-s 1", "-s 1 -n 1"), work))
+        two.append(timed(job.replace("-s 1", "-s 1 -n 2"), work))
+    c1 = statistics.median(x[0] for x in one)
+    c2 = statistics.median(x[0] for x in two)
+    w1 = statistics.median(x[1] for x in one)
+    w2 = statistics.median(x[1] for x in two)
+    print(f"\nthread scaling, furnished room -ad 4000 (same output bytes): -n 1 {c1:.2f} CPU s "
+          f"{w1:.2f} wall s; -n 2 {c2:.2f} CPU s {w2:.2f} wall s; CPU growth {100 * (c2 / c1 - 1):+.1f} %"
+          f" (goal within 10 %), wall speed-up {w1 / w2:.2f}x on {os.cpu_count()} cores")
+    load = " ".join(f"{x:.1f}" for x in os.getloadavg())
+    print(f"load average at the end: {load}")
 
 if __name__ == "__main__":
     main()

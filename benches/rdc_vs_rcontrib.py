@@ -71,6 +71,8 @@ def main():
     ap.add_argument("--ad", type=int, default=10000, help="rcontrib -ad (default 10000)")
     ap.add_argument("--ours", default="2500,5000,10000,20000", help="rdc -ad values")
     ap.add_argument("--scene", default="furnished", choices=["furnished", "office"])
+    ap.add_argument("--json", action="store_true",
+                    help="also print one JSON line with the figures (for benches/bench.py)")
     args = ap.parse_args()
     scene = f"scenes/{args.scene}.rad"
     pts = os.path.join(FIX, "sensors", "office.pts")
@@ -142,6 +144,10 @@ def main():
         print(f"rdc CPU time at that noise: {cbest:.2f} s; rcontrib: {rcc:.2f} CPU s; "
               f"CPU ratio {rcc/cbest:.2f}x")
     print(f"load average during the run: {os.getloadavg()[0]:.1f} (quote ratios from an idle machine)")
+    if args.json:
+        import json
+        print(json.dumps({"scene": args.scene, "noise": target, "rcontrib_cpu": statistics.median(rc_cpu),
+                          "rcontrib_wall": statistics.median(rc_wall), "rdc_cpu": cbest, "rdc_wall": best}))
 
 
 if __name__ == "__main__":

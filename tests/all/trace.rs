@@ -217,6 +217,7 @@ fn furnace_av(ab: u32) -> Vec<f64> {
         max_depth: 10,
         ambient_value: Some(Color::splat(3, 1.0)),
         portals: true,
+        split: 1,
     };
     let mut rng = Pcg64::seed_from_u64(3);
     sensors("sensors/furnace.pts")
@@ -703,5 +704,122 @@ fn gensky_skyfunc_is_evaluated_natively() {
         let want = rdaylight::sky::cie::skybright(d, &skyfunc);
         assert!(want > 0.0);
         assert!((l.as_slice()[0] as f64 - want).abs() < 1e-5 * want, "{d:?}");
+    }
+}
+
+/// Window portals (docs/portals.md) change the noise, not the values: the office fixture's
+/// coefficients with and without portals, four seeds each, agree sensor by sensor within
+/// their combined standard errors, both under a uniform sky (row totals) and under a
+/// sun-like sky that weights a few patches heavily (a biased patch would show there), and
+/// the portals cut the spread several times.
+#[test]
+fn portals_change_noise_not_values() {
+    use rdaylight::formats::sensors::SensorRay;
+    use rdaylight::rdc::{Config, Sampling, Target, Tracer};
+    use rdaylight::scene::{self, LoadOptions};
+    use rdaylight::sky::SkyPatches;
+    let fix = crate::common::repo().join("radiance-fixtures");
+    let files = [
+        fix.join("scenes/office.rad").to_string_lossy().into_owned(),
+        fix.join("scenes/sky_glow360.rad")
+            .to_string_lossy()
+            .into_owned(),
+    ];
+    let scene = scene::load(&files, &LoadOptions::default()).unwrap();
+    // Every fourth office sensor: window to back wall.
+    let rays: Vec<SensorRay> = std::fs::read_to_string(fix.join("sensors/office.pts"))
+        .unwrap()
+        .lines()
+        .filter(|l| !l.trim().is_empty())
+        .step_by(4)
+        .map(|l| {
+            let v: Vec<f64> = l.split_whitespace().map(|x| x.parse().unwrap()).collect();
+            SensorRay::new([v[0], v[1], v[2]], [v[3], v[4], v[5]])
+        })
+        .collect();
+    // Photopic weights per patch: uniform, and a sun-like sky (a bright region 30 degrees
+    // up in the south, 20x the rest).
+    let patches = SkyPatches::new(1);
+    // Azimuth from north, east positive: the window faces south.
+    let sun = rdaylight::sky::patches::direction(30f64.to_radians(), std::f64::consts::PI);
+    let sunny: Vec<f64> = (0..patches.len())
+        .map(|i| {
+            let c = patches.centre(i);
+            let cos = c[0] * sun[0] + c[1] * sun[1] + c[2] * sun[2];
+            1.0 + 20.0 * (8.0 * (cos - 1.0)).exp()
+        })
+        .collect();
+    let y = [0.2651, 0.6701, 0.0648];
+    // Per configuration: per sensor, the (uniform, sunny) totals of each seed.
+    let totals = |portals: bool| -> Vec<Vec<[f64; 2]>> {
+        (1..=4u64)
+            .map(|seed| {
+                let config = Config {
+                    sampling: Sampling {
+                        ab: 5,
+                        ad: 600,
+                        lw: 1e-5,
+                        portals,
+                        ..Sampling::default()
+                    },
+                    target: Target::sky(1),
+                    irradiance: true,
+                    seed,
+                    ..Config::default()
+                };
+                let rows = Tracer::new(&config, &scene)
+                    .unwrap()
+                    .compute(&rays)
+                    .unwrap();
+                rows.iter()
+                    .map(|r| {
+                        let mut t = [0.0; 2];
+                        for p in 0..patches.len() {
+                            let v: f64 = (0..3).map(|c| y[c] * r.values[p * 3 + c]).sum();
+                            t[0] += v;
+                            t[1] += v * sunny[p];
+                        }
+                        t
+                    })
+                    .collect()
+            })
+            .collect()
+    };
+    let (on, off) = (totals(true), totals(false));
+    let stats = |runs: &[Vec<[f64; 2]>], s: usize, k: usize| {
+        let v: Vec<f64> = runs.iter().map(|r| r[s][k]).collect();
+        let m = v.iter().sum::<f64>() / v.len() as f64;
+        let var = v.iter().map(|x| (x - m).powi(2)).sum::<f64>() / (v.len() - 1) as f64;
+        (m, var / v.len() as f64)
+    };
+    for (k, sky) in ["uniform", "sunny"].iter().enumerate() {
+        let (mut z2, mut cv_on, mut cv_off) = (0.0, 0.0, 0.0);
+        for s in 0..rays.len() {
+            let (m1, v1) = stats(&on, s, k);
+            let (m0, v0) = stats(&off, s, k);
+            let z = (m1 - m0) / (v1 + v0).sqrt();
+            // Four seeds: a t distribution with few degrees of freedom; 6 sigma is rare.
+            assert!(
+                z.abs() < 6.0,
+                "{sky} sky, sensor {s}: {m1} vs {m0} (z {z:.1})"
+            );
+            z2 += z * z;
+            cv_on += (v1 * 4.0).sqrt() / m1;
+            cv_off += (v0 * 4.0).sqrt() / m0;
+        }
+        // Over all sensors the mean squared z stays near 1 (each z has a heavy-tailed
+        // small-sample spread, so allow up to 3).
+        let msz = z2 / rays.len() as f64;
+        assert!(msz < 3.0, "{sky} sky: mean z^2 {msz:.2}");
+        let (cv_on, cv_off) = (cv_on / rays.len() as f64, cv_off / rays.len() as f64);
+        println!(
+            "{sky} sky: mean z^2 {msz:.2}; mean CV portals {:.2} %, without {:.2} %",
+            100.0 * cv_on,
+            100.0 * cv_off
+        );
+        assert!(
+            cv_on < 0.5 * cv_off,
+            "{sky} sky: CV {cv_on} with portals, {cv_off} without"
+        );
     }
 }

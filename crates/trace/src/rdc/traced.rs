@@ -51,6 +51,7 @@ impl Traced {
             max_depth,
             ambient_value: None,
             portals: p.portals,
+            split: 1,
         };
         Traced {
             scene,
@@ -63,6 +64,12 @@ impl Traced {
             track: None,
             rays: AtomicU64::new(0),
         }
+    }
+
+    /// Split a sender ray's path at its first diffuse hit into `k` directions
+    /// ([`PathLimits::split`]; `rdc --flux` with a sender file, `k` = `-ad`).
+    pub fn set_first_bounce_split(&mut self, k: u32) {
+        self.params.split = k.max(1);
     }
 
     /// Rays cast by paths so far (closest-hit and shadow queries of path samples; the

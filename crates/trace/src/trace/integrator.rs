@@ -90,6 +90,11 @@ pub struct PathLimits {
     /// Sample the scene's window panes at Lambertian vertices ([`super::portals`]): same
     /// expectation, less noise in side-lit rooms.
     pub portals: bool,
+    /// Directions at the first diffuse (Lambertian) hit of a path that did not start at a
+    /// sensor, each continuing with `1/split` of the weight, stratified over the
+    /// hemisphere: Radiance's ambient divisions at the first ambient bounce, for
+    /// `rfluxmtx`'s sender rays (`rdc --flux` with a sender file; 1: no splitting).
+    pub split: u32,
 }
 
 impl PathLimits {
@@ -101,6 +106,7 @@ impl PathLimits {
             max_depth: 10,
             ambient_value: None,
             portals: true,
+            split: 1,
         }
     }
 
@@ -112,6 +118,7 @@ impl PathLimits {
             max_depth: 10,
             ambient_value: None,
             portals: true,
+            split: 1,
         }
     }
 }
@@ -731,6 +738,34 @@ impl Renderable {
             }
             // The path scatters here: whatever it finds next is its own sample's alone.
             st.mis = None;
+            // A sender ray's first diffuse hit: `split` stratified directions (rfluxmtx's
+            // ambient divisions), each a path of its own with 1/split of the weight.
+            if params.split > 1 && st.diffuse == 0 && st.diffuse < params.ab {
+                if let Some(rho) = lambertian(m) {
+                    let k = params.split as usize;
+                    let grid = (k as f64).sqrt().floor() as usize;
+                    let n = if wo.dot(h.normal) < 0.0 {
+                        -h.normal
+                    } else {
+                        h.normal
+                    };
+                    let weight = rho.scale(1.0 / k as f64);
+                    for j in 0..k {
+                        let (u, w) = strat_uv(j, k, grid, rng);
+                        let smp = crate::material::Sample {
+                            wi: cosine_hemisphere(n.to_array(), u, w),
+                            weight,
+                            kind: SampleKind::DiffuseReflect,
+                        };
+                        if let Some((r, next)) =
+                            self.advance(&v, st, smp, w0, params, mode, rng, track, &mut out)
+                        {
+                            out += self.walk(r, next, w0, params, mode, rng, rays, track, sink);
+                        }
+                    }
+                    return out;
+                }
+            }
             // Portals at a Lambertian vertex whose diffuse sample may still go on (`-ab`).
             let nee = match lambertian(m) {
                 Some(rho)
