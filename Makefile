@@ -272,7 +272,7 @@ SHADE_OUT := $(OUT)/shading
 SHADE_SCENE := $(SHADE)/materials.rad $(SHADE)/geometry.rad
 SHADE_BLACK := $(SHADE)/materials_black.rad $(SHADE)/geometry.rad
 SHADE_T  := tests/data/bsdf/blinds45.xml
-SHADE_DOPTS ?= -ab 2 -ad 1000 -lw 1e-4 -c 1000 -s 1
+SHADE_DOPTS ?= -ab 2 -ad 1000 -lw 1e-4 -c 100 -s 1
 .PHONY: shading-example
 shading-example: build
 	@mkdir -p $(SHADE_OUT)

@@ -205,7 +205,7 @@ fn five_phase_agrees_with_a_real_radiance_five_phase_run() {
     let cmds: [(&[&str], &[u8], &str); 5] = [
         (&["--flux", "-I", "-ab", "5", "-ad", "10000", "-lw", "1e-5", "-s", "1", "-faf", "-",
            &window, &mat, &geo], pts, "V.mtx"),
-        (&["--flux", "-ab", "2", "-ad", "1000", "-lw", "1e-4", "-c", "1000", "-s", "1", "-faf",
+        (&["--flux", "-ab", "2", "-ad", "1000", "-lw", "1e-4", "-c", "100", "-s", "1", "-faf",
            &window, &sky, &mat, &geo], b"", "D.mtx"),
         (&["--flux", "-I", "-ab", "1", "-ad", "10000", "-lw", "1e-5", "-s", "1", "-faf", "-",
            &window, &black, &geo], pts, "Vd.mtx"),
