@@ -328,6 +328,8 @@ impl Args {
                 "a view given on the command line needs at least -vt, -vh and -vv".into(),
             ));
         }
+        // the per-pixel position statistics are printed only by -d
+        opts.position_stats = output == Output::Detailed;
         if check.is_some() && files.len() > 1 {
             return Err(Error::Usage("-c needs exactly one input picture".into()));
         }
