@@ -38,7 +38,7 @@ pub fn check_picture(pic: &Picture, p: &Pixels, e: &Evaluation) -> Picture {
             let l = p.lum[i];
             let g = e.gsn[i];
             let rgb = if g > 0 {
-                let c = PALETTE[g % 5 + 1];
+                let c = PALETTE[g as usize % 5 + 1];
                 [
                     c[0] / CIE[0] * l / 179.0,
                     c[1] / CIE[1] * l / 179.0,

@@ -96,7 +96,7 @@ pub struct Detection {
     /// merged away.
     pub sources: Vec<Source>,
     /// Source number of every pixel (flat index), 0 = none.
-    pub gsn: Vec<usize>,
+    pub gsn: Vec<u32>,
     /// Luminance threshold used (cd/m²).
     pub threshold: f64,
     /// How it was obtained.
@@ -143,9 +143,8 @@ struct Tiles {
 }
 
 impl Tiles {
-    /// Cones of `p`'s valid pixels for the search radius `r` (directions from `rows`), and
-    /// the sources of `gsn`.
-    fn new(p: &Pixels, rows: &[[f64; 3]], gsn: &[usize], r: f64) -> Tiles {
+    /// Cones of `p`'s valid pixels for the search radius `r`, and the sources of `gsn`.
+    fn new(p: &Pixels, gsn: &[u32], r: f64) -> Tiles {
         use super::pixels::dot;
         let (nx, ny) = (p.xres.div_ceil(TILE), p.yres.div_ceil(TILE));
         let ok = |x: usize, y: usize| {
@@ -190,9 +189,9 @@ impl Tiles {
                 for y in ys.clone() {
                     for x in xs.clone() {
                         if ok(x, y) {
-                            let d = rows[x + y * p.xres];
+                            let d = p.dir[p.at(x, y)];
                             s = [s[0] + d[0], s[1] + d[1], s[2] + d[2]];
-                            let g = gsn[p.at(x, y)];
+                            let g = gsn[p.at(x, y)] as usize;
                             if g > 0 && !t.ids[k].contains(&g) {
                                 t.ids[k].push(g);
                             }
@@ -213,7 +212,7 @@ impl Tiles {
                 for y in ys.clone() {
                     for x in xs.clone() {
                         if ok(x, y) {
-                            min_dot = min_dot.min(dot(axis, rows[x + y * p.xres]));
+                            min_dot = min_dot.min(dot(axis, p.dir[p.at(x, y)]));
                         }
                     }
                 }
@@ -264,10 +263,8 @@ impl Tiles {
 
 struct State<'a> {
     p: &'a Pixels,
-    /// The pixel directions row by row (`x + y·xres`): the neighbour searches walk along
-    /// x, which in `Pixels`' column-major layout strides a whole column per step.
-    rows: Vec<[f64; 3]>,
-    gsn: Vec<usize>,
+    /// Source number per pixel (0: none); `u32` halves the largest array of the detection.
+    gsn: Vec<u32>,
     pgs: Vec<bool>,
     src: Vec<Source>,
     /// The cones of the merging searches, made at the first one.
@@ -294,11 +291,11 @@ impl State<'_> {
     ) -> bool {
         let p = self.p;
         if self.tiles.as_ref().is_none_or(|t| t.r != r) {
-            self.tiles = Some(Tiles::new(p, &self.rows, &self.gsn, r));
+            self.tiles = Some(Tiles::new(p, &self.gsn, r));
         }
         let cos_half = (0.5 * r).cos();
         let t = self.tiles.as_ref().expect("made above");
-        let here = self.rows[x + y * p.xres];
+        let here = p.dir[p.at(x, y)];
         let om = self.src[old].omega;
         let bigger = |f: usize| ids.contains(&f) && self.src[f].omega > om;
         let bx = t.nx.div_ceil(BLOCK);
@@ -317,15 +314,10 @@ impl State<'_> {
                     }
                     for yy in ty * TILE..((ty + 1) * TILE).min(p.yres) {
                         for xx in tx * TILE..((tx + 1) * TILE).min(p.xres) {
-                            let f = self.gsn[p.at(xx, yy)];
+                            let f = self.gsn[p.at(xx, yy)] as usize;
                             if f > 0
                                 && bigger(f)
-                                && Pixels::within_dirs(
-                                    here,
-                                    self.rows[xx + yy * p.xres],
-                                    r,
-                                    cos_half,
-                                )
+                                && Pixels::within_dirs(here, p.dir[p.at(xx, yy)], r, cos_half)
                             {
                                 return true;
                             }
@@ -363,7 +355,7 @@ impl State<'_> {
         if l > s.lum_max {
             s.lum_max = l;
         }
-        self.gsn[i] = g;
+        self.gsn[i] = g as u32;
         if let Some(t) = self.tiles.as_mut() {
             t.add(x, y, g);
         }
@@ -373,7 +365,7 @@ impl State<'_> {
     fn split_pixel(&mut self, x: usize, y: usize, g: usize) {
         let i = self.p.at(x, y);
         let (om, l) = (self.p.omega[i], self.p.lum[i]);
-        let s = &mut self.src[self.gsn[i]];
+        let s = &mut self.src[self.gsn[i] as usize];
         s.npix -= 1.0;
         let (opx, opy, oo, ol) = (s.posx, s.posy, s.omega, s.lum);
         let no = oo - om;
@@ -403,7 +395,7 @@ impl State<'_> {
         let x_max = if act == 0 { x } else { p.xres as i64 - 1 };
         let y_max = p.yres as i64 - 1;
         let here = p.at(x as usize, y as usize);
-        let old = self.gsn[here];
+        let old = self.gsn[here] as usize;
         if act > 0 {
             if self.prune && !self.bigger_within((x as usize, y as usize), r, old, min..=max) {
                 self.walks[1] += 1;
@@ -424,9 +416,8 @@ impl State<'_> {
                     let mut stop_x = false;
                     while ix <= x_max && ix >= 0 && !stop_x && !stop_y {
                         let j = p.at(ix as usize, iy as usize);
-                        let there = self.rows[ix as usize + iy as usize * p.xres];
-                        if Pixels::within_dirs(p.dir[here], there, r, cos_half) {
-                            let f = self.gsn[j];
+                        if Pixels::within_dirs(p.dir[here], p.dir[j], r, cos_half) {
+                            let f = self.gsn[j] as usize;
                             if f > 0 {
                                 if act == 0 {
                                     near = f;
@@ -462,7 +453,7 @@ impl State<'_> {
             near = new;
             for xx in 0..p.xres {
                 for yy in 0..p.yres {
-                    if self.gsn[p.at(xx, yy)] == old {
+                    if self.gsn[p.at(xx, yy)] as usize == old {
                         self.add_pixel(xx, yy, new);
                     }
                 }
@@ -491,10 +482,9 @@ impl State<'_> {
                     let mut ix = if dx == -1 { x } else { x + 1 };
                     while ix <= x_max && ix >= 0 {
                         let j = p.at(ix as usize, iy as usize);
-                        let there = self.rows[ix as usize + iy as usize * p.xres];
-                        if Pixels::within_dirs(p.dir[here], there, r, cos_half) {
+                        if Pixels::within_dirs(p.dir[here], p.dir[j], r, cos_half) {
                             out_r = true;
-                            let g = self.gsn[j];
+                            let g = self.gsn[j] as usize;
                             if g >= start && g <= end {
                                 found = g;
                             }
@@ -534,7 +524,7 @@ impl State<'_> {
                 if d <= r {
                     let j = p.at(ix as usize, iy as usize);
                     om_tot += p.omega[j];
-                    if self.gsn[j] == g && self.pgs[j] {
+                    if self.gsn[j] as usize == g && self.pgs[j] {
                         om_gs += p.omega[j];
                     }
                 }
@@ -617,15 +607,8 @@ fn detect_with(
     };
 
     let n = p.xres * p.yres;
-    let mut rows = vec![[0.0; 3]; n];
-    for x in 0..p.xres {
-        for y in 0..p.yres {
-            rows[x + y * p.xres] = p.dir[p.at(x, y)];
-        }
-    }
     let mut st = State {
         p,
-        rows,
         gsn: vec![0; n],
         pgs: vec![false; n],
         src: vec![Source::default()],
@@ -655,7 +638,7 @@ fn detect_with(
                 if actual == 0 {
                     actual = st.new_source();
                 }
-                st.gsn[i] = actual;
+                st.gsn[i] = actual as u32;
                 st.pgs[i] = true;
                 st.add_pixel(x, y, actual);
                 last = actual;
@@ -677,7 +660,7 @@ fn detect_with(
                     if !p.inview[i] {
                         continue;
                     }
-                    let before = st.gsn[i];
+                    let before = st.gsn[i] as usize;
                     if before == 0 || !p.valid[i] {
                         continue;
                     }
@@ -695,6 +678,7 @@ fn detect_with(
                         .iter()
                         .all(|&(dx, dy)| {
                             st.gsn[p.at((x as i64 + dx) as usize, (y as i64 + dy) as usize)]
+                                as usize
                                 == before
                         });
                         if same {
@@ -741,7 +725,7 @@ fn detect_with(
                 for x in 0..p.xres {
                     for y in 0..p.yres {
                         let i = p.at(x, y);
-                        if ok(i) && p.lum[i] >= limit && st.gsn[i] == g {
+                        if ok(i) && p.lum[i] >= limit && st.gsn[i] as usize == g {
                             let mut split = if st.src.len() == start {
                                 st.new_source()
                             } else {
@@ -761,7 +745,7 @@ fn detect_with(
                 for x in 0..p.xres {
                     for y in 0..p.yres {
                         let i = p.at(x, y);
-                        let before = st.gsn[i];
+                        let before = st.gsn[i] as usize;
                         if before >= start && before > 0 && ok(i) {
                             let igs = st.src.len() - 1;
                             if st.find_near(x, y, r, before, igs, start) != before {
@@ -776,7 +760,7 @@ fn detect_with(
 
     // direct illuminance of each source
     for i in 0..n {
-        let g = st.gsn[i];
+        let g = st.gsn[i] as usize;
         if g > 0 && ok(i) {
             let d = super::pixels::dot(p.camera.dir(), p.dir[i]) * p.omega[i] * p.lum[i];
             st.src[g].eglare += d;

@@ -180,7 +180,7 @@ pub struct Evaluation {
     pub notices: Vec<String>,
     /// Source number of every pixel (evalglare layout, renumbered 1..=n, 0 = none); for
     /// the check picture.
-    pub gsn: Vec<usize>,
+    pub gsn: Vec<u32>,
 }
 
 /// The view to evaluate `pic` with: its header's `VIEW=` lines, then `user` options on top
@@ -316,12 +316,12 @@ pub fn evaluate_pixels(p: &Pixels, opts: &Options) -> Evaluation {
     notices.extend(det.warnings.iter().map(|w| format!("warning: {w}")));
 
     // active sources in internal order, renumbered 1..=n
-    let mut renum = vec![0usize; det.sources.len()];
+    let mut renum = vec![0u32; det.sources.len()];
     let mut active = Vec::new();
     for (g, s) in det.sources.iter().enumerate() {
         if s.npix > 0.0 {
             active.push(g);
-            renum[g] = active.len();
+            renum[g] = active.len() as u32;
         }
     }
     // fold from +0: an empty f64 sum is −0, which would print as "-0.000000"
@@ -417,7 +417,10 @@ pub fn evaluate_pixels(p: &Pixels, opts: &Options) -> Evaluation {
     if e_v < 380.0 {
         notices.push("Notice: Low brightness scene. Vertical illuminance less than 380 lux! dgp might underestimate glare sources".into());
     }
-    let gsn = det.gsn.iter().map(|&g| renum[g]).collect();
+    let mut gsn = det.gsn;
+    for g in &mut gsn {
+        *g = renum[*g as usize];
+    }
     Evaluation {
         sources,
         metrics: m,
