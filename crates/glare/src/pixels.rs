@@ -60,7 +60,6 @@ impl Pixels {
         let angular = camera.view().vtype == crate::formats::view::ViewType::Angular;
         let not_parallel = camera.view().vtype != crate::formats::view::ViewType::Parallel;
         let vdir = camera.dir();
-        let ex = pic.exposure();
         let n = xres * yres;
         let mut p = Pixels {
             xres,
@@ -76,16 +75,20 @@ impl Pixels {
         // a column is a contiguous run of yres pixels, y from the bottom). Pixel corners
         // are shared by adjacent pixels: a block computes its `BLOCK + 1` corner columns
         // once (the values `Camera::pixel_solid_angle` computes, with about a quarter of
-        // the view rays).
+        // the view rays). Directions come a column at a time (`Camera::view_dirs`: the
+        // same numbers as `pixel_ray`), luminances a picture row of the block at a time
+        // (the picture is stored row by row).
         const BLOCK: usize = 16;
         let chunk = (BLOCK * yres).max(1);
         let cam = &p.camera;
-        let corners = |cx: usize| -> Vec<Option<V3>> {
-            let fx = cx as f64 / xres as f64;
-            (0..=yres)
-                .map(|k| cam.view_ray(fx, k as f64 / yres as f64).map(|r| r.dir))
-                .collect()
+        // image-plane y of the corner rows (k / yres, k = 0 at the bottom) and of the pixel
+        // centres of y = 0, 1, ... from the bottom (Radiance's pix2loc: (y + ½) / yres)
+        let corner_y: Vec<f64> = (0..=yres).map(|k| k as f64 / yres as f64).collect();
+        let centre_y: Vec<f64> = (0..yres).map(|y| (y as f64 + 0.5) / yres as f64).collect();
+        let corners = |cx: usize, out: &mut [Option<V3>]| {
+            cam.view_dirs(cx as f64 / xres as f64, &corner_y, out);
         };
+        let lum_of = Luminance::new(pic);
         p.dir
             .par_chunks_mut(chunk)
             .zip(p.omega.par_chunks_mut(chunk))
@@ -95,13 +98,23 @@ impl Pixels {
             .enumerate()
             .for_each(|(b, ((((dir, omega), lum), inview), valid))| {
                 let x0 = b * BLOCK;
-                let mut c0 = corners(x0);
-                for c in 0..dir.len() / yres {
+                let ncol = dir.len() / yres;
+                for y in 0..yres {
+                    let row = yres - 1 - y;
+                    for c in 0..ncol {
+                        lum[c * yres + y] = lum_of.at(x0 + c, row);
+                    }
+                }
+                let mut c0 = vec![None; yres + 1];
+                let mut c1 = vec![None; yres + 1];
+                let mut centre = vec![None; yres];
+                corners(x0, &mut c0);
+                for c in 0..ncol {
                     let x = x0 + c;
-                    let c1 = corners(x + 1);
+                    corners(x + 1, &mut c1);
+                    cam.view_dirs((x as f64 + 0.5) / xres as f64, &centre_y, &mut centre);
                     for y in 0..yres {
                         let i = c * yres + y;
-                        let row = yres - 1 - y;
                         let k = yres - 1 - y;
                         let om = match (not_parallel, c0[k], c1[k], c1[k + 1], c0[k + 1]) {
                             (true, Some(a), Some(b), Some(c), Some(d)) => {
@@ -110,14 +123,13 @@ impl Pixels {
                             _ => 0.0,
                         };
                         omega[i] = om;
-                        lum[i] = luminance(pic, x, row, &ex);
-                        if let Some(r) = cam.pixel_ray(x, row, xres, yres) {
-                            dir[i] = r.dir;
+                        if let Some(d) = centre[y] {
+                            dir[i] = d;
                             inview[i] = true;
-                            valid[i] = om > 0.0 && (!angular || dot(r.dir, vdir) >= 0.0);
+                            valid[i] = om > 0.0 && (!angular || dot(d, vdir) >= 0.0);
                         }
                     }
-                    c0 = c1;
+                    std::mem::swap(&mut c0, &mut c1);
                 }
             });
         p
@@ -178,17 +190,38 @@ impl Pixels {
 // the values color.h's macros compute, which evalglare uses).
 use crate::radiometry::{RGB_PHOTOPIC as CIE_RGB_W, WHITE_EFFICACY as WHTEFFICACY};
 
-/// Radiance's `luminance()` of the pixel with the exposure `ex` (per channel) divided out:
-/// what [`Picture::luminance`] computes, without recomputing the exposure per pixel.
-fn luminance(pic: &Picture, x: usize, row: usize, ex: &[f64]) -> f64 {
-    use crate::formats::picture::PixelFormat;
-    let px = pic.pixel(x, row);
-    match pic.format {
-        PixelFormat::Rgbe => {
-            let [r, g, b] = CIE_RGB_W;
-            WHTEFFICACY
-                * (r * px[0] as f64 / ex[0] + g * px[1] as f64 / ex[1] + b * px[2] as f64 / ex[2])
+/// Radiance's `luminance()` of a pixel with the exposure divided out: what
+/// [`Picture::luminance`] computes, without recomputing the exposure per pixel.
+struct Luminance<'a> {
+    pic: &'a Picture,
+    /// The exposure per channel.
+    ex: Vec<f64>,
+    rgbe: bool,
+    ncomp: usize,
+}
+
+impl<'a> Luminance<'a> {
+    fn new(pic: &'a Picture) -> Self {
+        use crate::formats::picture::PixelFormat;
+        Luminance {
+            pic,
+            ex: pic.exposure(),
+            rgbe: pic.format == PixelFormat::Rgbe,
+            ncomp: pic.ncomp(),
         }
-        _ => pic.luminance(x, row),
+    }
+
+    /// Pixel `x` of picture row `row` (from the top).
+    #[inline]
+    fn at(&self, x: usize, row: usize) -> f64 {
+        if !self.rgbe {
+            return self.pic.luminance(x, row);
+        }
+        let at = (row * self.pic.width + x) * self.ncomp;
+        let px = &self.pic.data[at..at + 3];
+        let ex = &self.ex;
+        let [r, g, b] = CIE_RGB_W;
+        WHTEFFICACY
+            * (r * px[0] as f64 / ex[0] + g * px[1] as f64 / ex[1] + b * px[2] as f64 / ex[2])
     }
 }
