@@ -178,16 +178,17 @@ impl Tiles {
         };
         let mut sum = vec![[0.0; 3]; nx * ny];
         let mut beta = vec![0.0; nx * ny];
-        for ty in 0..ny {
-            for tx in 0..nx {
+        // tiles and their pixels column by column, the order of the pixel arrays
+        for tx in 0..nx {
+            for ty in 0..ny {
                 let k = tx + ty * nx;
                 let (xs, ys) = (
                     tx * TILE..((tx + 1) * TILE).min(p.xres),
                     ty * TILE..((ty + 1) * TILE).min(p.yres),
                 );
                 let mut s = [0.0; 3];
-                for y in ys.clone() {
-                    for x in xs.clone() {
+                for x in xs.clone() {
+                    for y in ys.clone() {
                         if ok(x, y) {
                             let d = p.dir[p.at(x, y)];
                             s = [s[0] + d[0], s[1] + d[1], s[2] + d[2]];
@@ -209,8 +210,8 @@ impl Tiles {
                     continue;
                 };
                 let mut min_dot = 1.0f64;
-                for y in ys.clone() {
-                    for x in xs.clone() {
+                for x in xs.clone() {
+                    for y in ys.clone() {
                         if ok(x, y) {
                             min_dot = min_dot.min(dot(axis, p.dir[p.at(x, y)]));
                         }
@@ -312,8 +313,8 @@ impl State<'_> {
                     {
                         continue;
                     }
-                    for yy in ty * TILE..((ty + 1) * TILE).min(p.yres) {
-                        for xx in tx * TILE..((tx + 1) * TILE).min(p.xres) {
+                    for xx in tx * TILE..((tx + 1) * TILE).min(p.xres) {
+                        for yy in ty * TILE..((ty + 1) * TILE).min(p.yres) {
                             let f = self.gsn[p.at(xx, yy)] as usize;
                             if f > 0
                                 && bigger(f)

@@ -113,7 +113,7 @@ impl Pixels {
                     let x = x0 + c;
                     corners(x + 1, &mut c1);
                     cam.view_dirs((x as f64 + 0.5) / xres as f64, &centre_y, &mut centre);
-                    for y in 0..yres {
+                    for (y, centre) in centre.iter().enumerate() {
                         let i = c * yres + y;
                         let k = yres - 1 - y;
                         let om = match (not_parallel, c0[k], c1[k], c1[k + 1], c0[k + 1]) {
@@ -123,7 +123,7 @@ impl Pixels {
                             _ => 0.0,
                         };
                         omega[i] = om;
-                        if let Some(d) = centre[y] {
+                        if let Some(d) = *centre {
                             dir[i] = d;
                             inview[i] = true;
                             valid[i] = om > 0.0 && (!angular || dot(d, vdir) >= 0.0);
