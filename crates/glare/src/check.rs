@@ -21,7 +21,8 @@ const PALETTE: [[f64; 3]; 7] = [
 
 use crate::radiometry::RGB_PHOTOPIC as CIE;
 
-/// The check picture (RGBE, the source picture's header lines kept).
+/// The check picture (RGBE, the source picture's header lines kept). Only `pic`'s header
+/// is read: its pixel values may already be freed.
 pub fn check_picture(pic: &Picture, p: &Pixels, e: &Evaluation) -> Picture {
     let (w, h) = (p.xres, p.yres);
     let mut out = Picture::new(w, h, Channels::rgb(), PixelFormat::Rgbe);

@@ -24,7 +24,7 @@
 //!   (`dir·vdir ≥ 0`; the corners of a 180° angular fisheye do not).
 
 use crate::formats::picture::Picture;
-use crate::formats::view::{Camera, quad_solid_angle};
+use crate::formats::view::{Camera, column_solid_angles};
 
 /// 3-vectors; the dot product in Radiance's order (`DOT`) keeps `acos(dot)` of a pixel with
 /// itself bit-identical to evalglare's.
@@ -108,20 +108,20 @@ impl Pixels {
                 let mut c0 = vec![None; yres + 1];
                 let mut c1 = vec![None; yres + 1];
                 let mut centre = vec![None; yres];
+                let mut om_col = vec![0.0; yres];
                 corners(x0, &mut c0);
                 for c in 0..ncol {
                     let x = x0 + c;
                     corners(x + 1, &mut c1);
                     cam.view_dirs((x as f64 + 0.5) / xres as f64, &centre_y, &mut centre);
+                    // by image row k from the bottom of the image plane; pixel y's is
+                    // row yres − 1 − y (evalglare's mirrored solid angle, module docs)
+                    if not_parallel {
+                        column_solid_angles(&c0, &c1, &mut om_col);
+                    }
                     for (y, centre) in centre.iter().enumerate() {
                         let i = c * yres + y;
-                        let k = yres - 1 - y;
-                        let om = match (not_parallel, c0[k], c1[k], c1[k + 1], c0[k + 1]) {
-                            (true, Some(a), Some(b), Some(c), Some(d)) => {
-                                quad_solid_angle(a, b, c, d)
-                            }
-                            _ => 0.0,
-                        };
+                        let om = om_col[yres - 1 - y];
                         omega[i] = om;
                         if let Some(d) = *centre {
                             dir[i] = d;

@@ -541,9 +541,56 @@ pub fn quad_solid_angle(a: V3, b: V3, c: V3, d: V3) -> f64 {
 /// Solid angle of the spherical triangle of unit vectors `a, b, c`:
 /// `tan(Ω/2) = |a·(b×c)| / (1 + a·b + b·c + c·a)` (Van Oosterom & Strackee 1983).
 fn triangle_solid_angle(a: V3, b: V3, c: V3) -> f64 {
+    let (num, den) = triangle_tan_half(a, b, c);
+    2.0 * num.atan2(den)
+}
+
+/// The numerator and denominator of [`triangle_solid_angle`]'s `tan(Ω/2)`.
+#[inline]
+fn triangle_tan_half(a: V3, b: V3, c: V3) -> (f64, f64) {
     let num = dot(a, cross(b, c)).abs();
     let den = 1.0 + dot(a, b) + dot(b, c) + dot(c, a);
-    2.0 * num.atan2(den)
+    (num, den)
+}
+
+/// Solid angles of a column of pixels from its two columns of corner directions (`n + 1`
+/// each, as [`Camera::view_dirs`] gives them): `out[k]` is
+/// `quad_solid_angle(left[k], right[k], right[k + 1], left[k + 1])`, bit for bit, or 0
+/// where a corner has no ray. The products of a batch of pixels are formed before their
+/// arc tangents, so the arc tangents run back to back instead of each waiting for its
+/// pixel's arithmetic.
+///
+/// # Panics
+/// If the corner columns are not one longer than `out`.
+pub fn column_solid_angles(left: &[Option<V3>], right: &[Option<V3>], out: &mut [f64]) {
+    assert!(
+        left.len() == out.len() + 1 && right.len() == out.len() + 1,
+        "column_solid_angles: n + 1 corners per column for n pixels"
+    );
+    const N: usize = 64;
+    let mut t = [(0.0, 0.0, 0.0, 0.0); N];
+    let mut has = [false; N];
+    for (start, out) in (0..out.len()).step_by(N).zip(out.chunks_mut(N)) {
+        for (j, (t, has)) in t.iter_mut().zip(has.iter_mut()).take(out.len()).enumerate() {
+            let k = start + j;
+            *has = false;
+            if let (Some(a), Some(b), Some(c), Some(d)) =
+                (left[k], right[k], right[k + 1], left[k + 1])
+            {
+                let (n1, d1) = triangle_tan_half(a, b, c);
+                let (n2, d2) = triangle_tan_half(a, c, d);
+                *t = (n1, d1, n2, d2);
+                *has = true;
+            }
+        }
+        for ((o, &(n1, d1, n2, d2)), &has) in out.iter_mut().zip(&t).zip(&has) {
+            *o = if has {
+                2.0 * n1.atan2(d1) + 2.0 * n2.atan2(d2)
+            } else {
+                0.0
+            };
+        }
+    }
 }
 
 #[cfg(test)]
@@ -600,6 +647,36 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// A column's solid angles are quad_solid_angle's, bit for bit, with and without rays
+    /// at the corners.
+    #[test]
+    fn column_solid_angles_are_quad_solid_angles_bit_for_bit() {
+        // 300°: the image's corners lie outside the fisheye's circle
+        let c = cam("-vta -vh 300 -vv 300 -vd 0 -1 0");
+        let n = 150;
+        let ys: Vec<f64> = (0..=n).map(|k| k as f64 / n as f64).collect();
+        let (mut left, mut right) = (vec![None; n + 1], vec![None; n + 1]);
+        let mut out = vec![0.0; n];
+        let mut with_rays = 0;
+        for col in 0..n {
+            c.view_dirs(col as f64 / n as f64, &ys, &mut left);
+            c.view_dirs((col + 1) as f64 / n as f64, &ys, &mut right);
+            column_solid_angles(&left, &right, &mut out);
+            for k in 0..n {
+                let want = match (left[k], right[k], right[k + 1], left[k + 1]) {
+                    (Some(a), Some(b), Some(c), Some(d)) => {
+                        with_rays += 1;
+                        quad_solid_angle(a, b, c, d)
+                    }
+                    _ => 0.0,
+                };
+                assert_eq!(out[k].to_bits(), want.to_bits(), "column {col}, pixel {k}");
+            }
+        }
+        // the disc and the corners outside it
+        assert!(with_rays > n * n / 2 && with_rays < n * n, "{with_rays}");
     }
 
     #[test]
