@@ -89,22 +89,27 @@ impl Pixels {
             cam.view_dirs(cx as f64 / xres as f64, &corner_y, out);
         };
         let lum_of = Luminance::new(pic);
+        // Luminances in bands of rows: each picture row is read whole and in order (the
+        // hardware prefetches it), while the band's part of every column stays in cache
+        // until it is filled. (A block of columns at a time missed the cache on every row.)
+        const BAND: usize = 16;
+        for y0 in (0..yres).step_by(BAND) {
+            for y in y0..(y0 + BAND).min(yres) {
+                let row = yres - 1 - y;
+                for x in 0..xres {
+                    p.lum[x * yres + y] = lum_of.at(x, row);
+                }
+            }
+        }
         p.dir
             .par_chunks_mut(chunk)
             .zip(p.omega.par_chunks_mut(chunk))
-            .zip(p.lum.par_chunks_mut(chunk))
             .zip(p.inview.par_chunks_mut(chunk))
             .zip(p.valid.par_chunks_mut(chunk))
             .enumerate()
-            .for_each(|(b, ((((dir, omega), lum), inview), valid))| {
+            .for_each(|(b, (((dir, omega), inview), valid))| {
                 let x0 = b * BLOCK;
                 let ncol = dir.len() / yres;
-                for y in 0..yres {
-                    let row = yres - 1 - y;
-                    for c in 0..ncol {
-                        lum[c * yres + y] = lum_of.at(x0 + c, row);
-                    }
-                }
                 let mut c0 = vec![None; yres + 1];
                 let mut c1 = vec![None; yres + 1];
                 let mut centre = vec![None; yres];
