@@ -270,7 +270,8 @@ struct State<'a> {
     src: Vec<Source>,
     /// The cones of the merging searches, made at the first one.
     tiles: Option<Tiles>,
-    /// Skip the merging walks that cannot change anything (off only in a test).
+    /// Skip the merging walks and the peak-merging passes that cannot change anything
+    /// (off only in a test).
     prune: bool,
     /// Merging walks run and skipped.
     walks: [usize; 2],
@@ -569,8 +570,9 @@ pub fn detect(p: &Pixels, opts: &DetectOptions, avlum: f64) -> Detection {
     detect_with(p, opts, avlum, true).0
 }
 
-/// [`detect`], with or without [`State::bigger_within`]'s shortcut; also returns how many
-/// merging walks ran and how many were skipped.
+/// [`detect`], with or without its shortcuts ([`State::bigger_within`], the peak merging
+/// confined to the moved pixels); also returns how many merging walks ran and how many
+/// were skipped.
 fn detect_with(
     p: &Pixels,
     opts: &DetectOptions,
@@ -722,11 +724,15 @@ fn detect_with(
                 continue;
             }
             let start = st.src.len();
+            // the pixels moved to the new sources (numbered from `start`): their box
+            let (mut x_lo, mut x_hi, mut y_lo, mut y_hi) = (usize::MAX, 0, usize::MAX, 0);
             if st.src[g].lum_max >= limit {
                 for x in 0..p.xres {
                     for y in 0..p.yres {
                         let i = p.at(x, y);
                         if ok(i) && p.lum[i] >= limit && st.gsn[i] as usize == g {
+                            (x_lo, x_hi) = (x_lo.min(x), x_hi.max(x));
+                            (y_lo, y_hi) = (y_lo.min(y), y_hi.max(y));
                             let mut split = if st.src.len() == start {
                                 st.new_source()
                             } else {
@@ -740,11 +746,19 @@ fn detect_with(
                     }
                 }
             }
-            let mut change = true;
+            // Merge the new sources among themselves. Only pixels numbered from `start`
+            // act, and merging only renumbers them among those sources, so evalglare's
+            // passes over the whole picture come down to the box of the moved pixels (in
+            // the same order), and to nothing when no pixel moved.
+            if !st.prune {
+                // the whole picture, as evalglare (the test of the shortcuts)
+                (x_lo, x_hi, y_lo, y_hi) = (0, p.xres - 1, 0, p.yres - 1);
+            }
+            let mut change = st.src.len() > start || !st.prune;
             while change {
                 change = false;
-                for x in 0..p.xres {
-                    for y in 0..p.yres {
+                for x in x_lo..=x_hi {
+                    for y in y_lo..=y_hi {
                         let i = p.at(x, y);
                         let before = st.gsn[i] as usize;
                         if before >= start && before > 0 && ok(i) {
@@ -834,9 +848,10 @@ mod tests {
         Pixels::new(&pic, view.setup().unwrap())
     }
 
-    /// Skipping the merging walks that [`State::bigger_within`] rules out leaves every
-    /// source and every pixel's source number as the full walks make them, on pictures
-    /// where sources do merge and split and walks are skipped.
+    /// Skipping the merging walks that [`State::bigger_within`] rules out, and the peak
+    /// merging outside the moved pixels, leaves every source and every pixel's source
+    /// number as evalglare's full walks and passes make them, on pictures where sources do
+    /// merge and split and walks are skipped.
     #[test]
     fn skipped_walks_change_nothing() {
         let (mut merged, mut skipped, mut ran) = (0, 0, 0);
