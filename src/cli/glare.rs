@@ -328,6 +328,8 @@ impl Args {
                 "a view given on the command line needs at least -vt, -vh and -vv".into(),
             ));
         }
+        // the per-pixel position statistics are printed only by -d
+        opts.position_stats = output == Output::Detailed;
         if check.is_some() && files.len() > 1 {
             return Err(Error::Usage("-c needs exactly one input picture".into()));
         }
@@ -374,10 +376,13 @@ fn open(name: &str) -> Result<Vec<(String, Picture)>> {
 }
 
 /// Evaluate one picture and return (stdout text, stderr lines).
-fn one(args: &Args, name: &str, pic: &Picture) -> Result<(String, Vec<String>)> {
-    let view = picture_view(pic, name, args.view.as_ref())?;
+fn one(args: &Args, name: &str, mut pic: Picture) -> Result<(String, Vec<String>)> {
+    let view = picture_view(&pic, name, args.view.as_ref())?;
     let camera = view.setup()?;
-    let p = crate::glare::Pixels::new(pic, camera);
+    let p = crate::glare::Pixels::new(&pic, camera);
+    // Pixels holds what the evaluation needs; the check picture takes only the header.
+    // Freeing the pixel values here keeps them out of the peak memory of the detection.
+    pic.data = Vec::new();
     if let Some((x, y, _)) = args.opts.detect.task {
         if x >= p.xres || y >= p.yres {
             return Err(Error::Usage(format!(
@@ -408,7 +413,7 @@ fn one(args: &Args, name: &str, pic: &Picture) -> Result<(String, Vec<String>)> 
             .then_some(args.opts.detect.peak_limit),
     ));
     if let Some(c) = &args.check {
-        let out = crate::glare::check::check_picture(pic, &p, &e);
+        let out = crate::glare::check::check_picture(&pic, &p, &e);
         crate::io::write_atomically(std::path::Path::new(c), |w| out.write(w, true))?;
     }
     let text = match args.output {
@@ -451,8 +456,8 @@ pub fn run(raw: &[String]) -> Result<()> {
             if args.check.is_some() && pics.len() > 1 {
                 return Err(Error::Usage("-c needs exactly one input picture".into()));
             }
-            pics.par_iter()
-                .map(|(name, pic)| one(&args, name, pic))
+            pics.into_par_iter()
+                .map(|(name, pic)| one(&args, &name, pic))
                 .collect()
         })
         .collect();

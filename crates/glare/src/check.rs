@@ -21,7 +21,8 @@ const PALETTE: [[f64; 3]; 7] = [
 
 use crate::radiometry::RGB_PHOTOPIC as CIE;
 
-/// The check picture (RGBE, the source picture's header lines kept).
+/// The check picture (RGBE, the source picture's header lines kept). Only `pic`'s header
+/// is read: its pixel values may already be freed.
 pub fn check_picture(pic: &Picture, p: &Pixels, e: &Evaluation) -> Picture {
     let (w, h) = (p.xres, p.yres);
     let mut out = Picture::new(w, h, Channels::rgb(), PixelFormat::Rgbe);
@@ -38,7 +39,7 @@ pub fn check_picture(pic: &Picture, p: &Pixels, e: &Evaluation) -> Picture {
             let l = p.lum[i];
             let g = e.gsn[i];
             let rgb = if g > 0 {
-                let c = PALETTE[g % 5 + 1];
+                let c = PALETTE[g as usize % 5 + 1];
                 [
                     c[0] / CIE[0] * l / 179.0,
                     c[1] / CIE[1] * l / 179.0,

@@ -96,7 +96,7 @@ pub struct Detection {
     /// merged away.
     pub sources: Vec<Source>,
     /// Source number of every pixel (flat index), 0 = none.
-    pub gsn: Vec<usize>,
+    pub gsn: Vec<u32>,
     /// Luminance threshold used (cd/m²).
     pub threshold: f64,
     /// How it was obtained.
@@ -109,17 +109,228 @@ pub struct Detection {
     pub warnings: Vec<String>,
 }
 
+/// Pixels per side of a [`Tiles`] tile, and tiles per side of a block of tiles.
+const TILE: usize = 16;
+const BLOCK: usize = 8;
+/// Slack (rad) on the cone tests of [`Tiles`]: far above the rounding of the dot products
+/// and arc cosines involved (below 1e-7 rad), far below a pixel (1e-3 rad at 1000 pixels
+/// over 180°), so it only costs an occasional needless exact check.
+const CONE_SLACK: f64 = 1e-6;
+
+/// Which sources can have a pixel within the search radius of a given direction, without
+/// walking the radius: the picture cut into tiles of `TILE²` pixels, each with a cone
+/// (axis, half-angle) holding the directions of its valid pixels and the numbers of the
+/// sources that have (or had) pixels in it; blocks of `BLOCK²` tiles have cones holding
+/// their tiles' cones. A tile can hold a pixel within angle `r/2` of direction `d` only if
+/// `angle(d, axis) ≤ r/2 + half-angle`, so most of the picture is ruled out with a few
+/// dot products. Only a "no" is used (see [`State::bigger_within`]); a "maybe" is settled
+/// by evalglare's own walk.
+struct Tiles {
+    /// The search radius the thresholds are for.
+    r: f64,
+    /// Tiles across and down.
+    nx: usize,
+    ny: usize,
+    /// Per tile: cone axis and the cosine threshold `cos(r/2 + half-angle + slack)`
+    /// (−2 when the cone may reach any direction; +2 for a tile without valid pixels).
+    axis: Vec<[f64; 3]>,
+    thr: Vec<f64>,
+    /// Per tile: source numbers that joined it (never removed: a superset).
+    ids: Vec<Vec<usize>>,
+    /// Per block of tiles (`BLOCK × BLOCK`): cone axis and threshold as for tiles.
+    block_axis: Vec<[f64; 3]>,
+    block_thr: Vec<f64>,
+}
+
+impl Tiles {
+    /// Cones of `p`'s valid pixels for the search radius `r`, and the sources of `gsn`.
+    fn new(p: &Pixels, gsn: &[u32], r: f64) -> Tiles {
+        use super::pixels::dot;
+        let (nx, ny) = (p.xres.div_ceil(TILE), p.yres.div_ceil(TILE));
+        let ok = |x: usize, y: usize| {
+            let i = p.at(x, y);
+            p.inview[i] && p.valid[i]
+        };
+        let unit = |v: [f64; 3]| {
+            let l = dot(v, v).sqrt();
+            (l > 1e-9).then(|| [v[0] / l, v[1] / l, v[2] / l])
+        };
+        // the threshold for a cone of half-angle `beta`: its directions within r/2 of d need
+        // dot(d, axis) >= cos(r/2 + beta)
+        let thr_of = |beta: f64| {
+            let a = 0.5 * r + beta + CONE_SLACK;
+            if a >= std::f64::consts::PI {
+                -2.0
+            } else {
+                a.cos()
+            }
+        };
+        let angle = |a: [f64; 3], b: [f64; 3]| dot(a, b).clamp(-1.0, 1.0).acos();
+        let mut t = Tiles {
+            r,
+            nx,
+            ny,
+            axis: vec![[0.0; 3]; nx * ny],
+            thr: vec![2.0; nx * ny],
+            ids: vec![Vec::new(); nx * ny],
+            block_axis: Vec::new(),
+            block_thr: Vec::new(),
+        };
+        let mut sum = vec![[0.0; 3]; nx * ny];
+        let mut beta = vec![0.0; nx * ny];
+        // tiles and their pixels column by column, the order of the pixel arrays
+        for tx in 0..nx {
+            for ty in 0..ny {
+                let k = tx + ty * nx;
+                let (xs, ys) = (
+                    tx * TILE..((tx + 1) * TILE).min(p.xres),
+                    ty * TILE..((ty + 1) * TILE).min(p.yres),
+                );
+                let mut s = [0.0; 3];
+                for x in xs.clone() {
+                    for y in ys.clone() {
+                        if ok(x, y) {
+                            let d = p.dir[p.at(x, y)];
+                            s = [s[0] + d[0], s[1] + d[1], s[2] + d[2]];
+                            let g = gsn[p.at(x, y)] as usize;
+                            if g > 0 && !t.ids[k].contains(&g) {
+                                t.ids[k].push(g);
+                            }
+                        }
+                    }
+                }
+                sum[k] = s;
+                let Some(axis) = unit(s) else {
+                    // no valid pixel, or directions cancelling out (the cone test then
+                    // lets everything through)
+                    if s != [0.0; 3] {
+                        t.thr[k] = -2.0;
+                        beta[k] = std::f64::consts::PI;
+                    }
+                    continue;
+                };
+                let mut min_dot = 1.0f64;
+                for x in xs.clone() {
+                    for y in ys.clone() {
+                        if ok(x, y) {
+                            min_dot = min_dot.min(dot(axis, p.dir[p.at(x, y)]));
+                        }
+                    }
+                }
+                t.axis[k] = axis;
+                beta[k] = min_dot.clamp(-1.0, 1.0).acos();
+                t.thr[k] = thr_of(beta[k]);
+            }
+        }
+        let (bx, by) = (nx.div_ceil(BLOCK), ny.div_ceil(BLOCK));
+        for b in 0..bx * by {
+            let (x0, y0) = ((b % bx) * BLOCK, (b / bx) * BLOCK);
+            let tiles = || {
+                (y0..(y0 + BLOCK).min(ny))
+                    .flat_map(move |ty| (x0..(x0 + BLOCK).min(nx)).map(move |tx| tx + ty * nx))
+            };
+            let mut s = [0.0; 3];
+            for k in tiles() {
+                s = [s[0] + sum[k][0], s[1] + sum[k][1], s[2] + sum[k][2]];
+            }
+            let (axis, thr) = match unit(s) {
+                Some(axis) => {
+                    let mut beta_b = 0.0f64;
+                    for k in tiles() {
+                        if t.thr[k] <= 1.0 {
+                            beta_b = beta_b.max(angle(axis, t.axis[k]) + beta[k] + CONE_SLACK);
+                        }
+                    }
+                    (axis, thr_of(beta_b))
+                }
+                None if s == [0.0; 3] => ([0.0; 3], 2.0),
+                None => ([0.0; 3], -2.0),
+            };
+            t.block_axis.push(axis);
+            t.block_thr.push(thr);
+        }
+        t
+    }
+
+    /// Note that source `g` has a pixel at `(x, y)`.
+    #[inline]
+    fn add(&mut self, x: usize, y: usize, g: usize) {
+        let ids = &mut self.ids[x / TILE + (y / TILE) * self.nx];
+        if !ids.contains(&g) {
+            ids.push(g);
+        }
+    }
+}
+
 struct State<'a> {
     p: &'a Pixels,
-    /// The pixel directions row by row (`x + y·xres`): the neighbour searches walk along
-    /// x, which in `Pixels`' column-major layout strides a whole column per step.
-    rows: Vec<[f64; 3]>,
-    gsn: Vec<usize>,
+    /// Source number per pixel (0: none); `u32` halves the largest array of the detection.
+    gsn: Vec<u32>,
     pgs: Vec<bool>,
     src: Vec<Source>,
+    /// The cones of the merging searches, made at the first one.
+    tiles: Option<Tiles>,
+    /// Skip the merging walks and the peak-merging passes that cannot change anything
+    /// (off only in a test).
+    prune: bool,
+    /// Merging walks run and skipped.
+    walks: [usize; 2],
 }
 
 impl State<'_> {
+    /// True when some pixel within `r` of `(x, y)` (anywhere in the picture, as
+    /// [`Pixels::within_dirs`] decides) belongs to a source numbered in `ids` with a
+    /// larger solid angle than `old`. When false, [`State::find_near`]'s merging walk
+    /// cannot change anything (it only acts on such a pixel), so it is skipped: most
+    /// pixels on a source's edge have no larger source in reach, and their walks over the
+    /// whole search circle (thousands of pixels) were most of the detection's time.
+    fn bigger_within(
+        &mut self,
+        (x, y): (usize, usize),
+        r: f64,
+        old: usize,
+        ids: std::ops::RangeInclusive<usize>,
+    ) -> bool {
+        let p = self.p;
+        if self.tiles.as_ref().is_none_or(|t| t.r != r) {
+            self.tiles = Some(Tiles::new(p, &self.gsn, r));
+        }
+        let cos_half = (0.5 * r).cos();
+        let t = self.tiles.as_ref().expect("made above");
+        let here = p.dir[p.at(x, y)];
+        let om = self.src[old].omega;
+        let bigger = |f: usize| ids.contains(&f) && self.src[f].omega > om;
+        let bx = t.nx.div_ceil(BLOCK);
+        for b in 0..t.block_thr.len() {
+            if super::pixels::dot(here, t.block_axis[b]) < t.block_thr[b] {
+                continue;
+            }
+            let (x0, y0) = ((b % bx) * BLOCK, (b / bx) * BLOCK);
+            for ty in y0..(y0 + BLOCK).min(t.ny) {
+                for tx in x0..(x0 + BLOCK).min(t.nx) {
+                    let k = tx + ty * t.nx;
+                    if !t.ids[k].iter().any(|&f| bigger(f))
+                        || super::pixels::dot(here, t.axis[k]) < t.thr[k]
+                    {
+                        continue;
+                    }
+                    for xx in tx * TILE..((tx + 1) * TILE).min(p.xres) {
+                        for yy in ty * TILE..((ty + 1) * TILE).min(p.yres) {
+                            let f = self.gsn[p.at(xx, yy)] as usize;
+                            if f > 0
+                                && bigger(f)
+                                && Pixels::within_dirs(here, p.dir[p.at(xx, yy)], r, cos_half)
+                            {
+                                return true;
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        false
+    }
+
     fn new_source(&mut self) -> usize {
         self.src.push(Source {
             lum_min: f64::INFINITY,
@@ -146,14 +357,17 @@ impl State<'_> {
         if l > s.lum_max {
             s.lum_max = l;
         }
-        self.gsn[i] = g;
+        self.gsn[i] = g as u32;
+        if let Some(t) = self.tiles.as_mut() {
+            t.add(x, y, g);
+        }
     }
 
     /// `split_pixel_from_gs`: move pixel to source `g`.
     fn split_pixel(&mut self, x: usize, y: usize, g: usize) {
         let i = self.p.at(x, y);
         let (om, l) = (self.p.omega[i], self.p.lum[i]);
-        let s = &mut self.src[self.gsn[i]];
+        let s = &mut self.src[self.gsn[i] as usize];
         s.npix -= 1.0;
         let (opx, opy, oo, ol) = (s.posx, s.posy, s.omega, s.lum);
         let no = oo - om;
@@ -183,7 +397,14 @@ impl State<'_> {
         let x_max = if act == 0 { x } else { p.xres as i64 - 1 };
         let y_max = p.yres as i64 - 1;
         let here = p.at(x as usize, y as usize);
-        let old = self.gsn[here];
+        let old = self.gsn[here] as usize;
+        if act > 0 {
+            if self.prune && !self.bigger_within((x as usize, y as usize), r, old, min..=max) {
+                self.walks[1] += 1;
+                return old;
+            }
+            self.walks[0] += 1;
+        }
         let mut new = old;
         let mut change = false;
         let mut near = if act > 0 { old } else { 0 };
@@ -197,9 +418,8 @@ impl State<'_> {
                     let mut stop_x = false;
                     while ix <= x_max && ix >= 0 && !stop_x && !stop_y {
                         let j = p.at(ix as usize, iy as usize);
-                        let there = self.rows[ix as usize + iy as usize * p.xres];
-                        if Pixels::within_dirs(p.dir[here], there, r, cos_half) {
-                            let f = self.gsn[j];
+                        if Pixels::within_dirs(p.dir[here], p.dir[j], r, cos_half) {
+                            let f = self.gsn[j] as usize;
                             if f > 0 {
                                 if act == 0 {
                                     near = f;
@@ -235,7 +455,7 @@ impl State<'_> {
             near = new;
             for xx in 0..p.xres {
                 for yy in 0..p.yres {
-                    if self.gsn[p.at(xx, yy)] == old {
+                    if self.gsn[p.at(xx, yy)] as usize == old {
                         self.add_pixel(xx, yy, new);
                     }
                 }
@@ -264,10 +484,9 @@ impl State<'_> {
                     let mut ix = if dx == -1 { x } else { x + 1 };
                     while ix <= x_max && ix >= 0 {
                         let j = p.at(ix as usize, iy as usize);
-                        let there = self.rows[ix as usize + iy as usize * p.xres];
-                        if Pixels::within_dirs(p.dir[here], there, r, cos_half) {
+                        if Pixels::within_dirs(p.dir[here], p.dir[j], r, cos_half) {
                             out_r = true;
-                            let g = self.gsn[j];
+                            let g = self.gsn[j] as usize;
                             if g >= start && g <= end {
                                 found = g;
                             }
@@ -307,7 +526,7 @@ impl State<'_> {
                 if d <= r {
                     let j = p.at(ix as usize, iy as usize);
                     om_tot += p.omega[j];
-                    if self.gsn[j] == g && self.pgs[j] {
+                    if self.gsn[j] as usize == g && self.pgs[j] {
                         om_gs += p.omega[j];
                     }
                 }
@@ -348,6 +567,18 @@ fn centre_radius(p: &Pixels) -> f64 {
 /// Detect glare sources. `avlum` is the picture's ω-weighted mean luminance over valid
 /// pixels (the threshold's reference without a task).
 pub fn detect(p: &Pixels, opts: &DetectOptions, avlum: f64) -> Detection {
+    detect_with(p, opts, avlum, true).0
+}
+
+/// [`detect`], with or without its shortcuts ([`State::bigger_within`], the peak merging
+/// confined to the moved pixels); also returns how many merging walks ran and how many
+/// were skipped.
+fn detect_with(
+    p: &Pixels,
+    opts: &DetectOptions,
+    avlum: f64,
+    prune: bool,
+) -> (Detection, [usize; 2]) {
     let mut warnings = Vec::new();
     let r = opts.radius;
     let search_pix = r / centre_radius(p);
@@ -379,18 +610,14 @@ pub fn detect(p: &Pixels, opts: &DetectOptions, avlum: f64) -> Detection {
     };
 
     let n = p.xres * p.yres;
-    let mut rows = vec![[0.0; 3]; n];
-    for x in 0..p.xres {
-        for y in 0..p.yres {
-            rows[x + y * p.xres] = p.dir[p.at(x, y)];
-        }
-    }
     let mut st = State {
         p,
-        rows,
         gsn: vec![0; n],
         pgs: vec![false; n],
         src: vec![Source::default()],
+        tiles: None,
+        prune,
+        walks: [0, 0],
     };
     let ok = |i: usize| p.inview[i] && p.valid[i];
 
@@ -414,7 +641,7 @@ pub fn detect(p: &Pixels, opts: &DetectOptions, avlum: f64) -> Detection {
                 if actual == 0 {
                     actual = st.new_source();
                 }
-                st.gsn[i] = actual;
+                st.gsn[i] = actual as u32;
                 st.pgs[i] = true;
                 st.add_pixel(x, y, actual);
                 last = actual;
@@ -436,7 +663,7 @@ pub fn detect(p: &Pixels, opts: &DetectOptions, avlum: f64) -> Detection {
                     if !p.inview[i] {
                         continue;
                     }
-                    let before = st.gsn[i];
+                    let before = st.gsn[i] as usize;
                     if before == 0 || !p.valid[i] {
                         continue;
                     }
@@ -454,6 +681,7 @@ pub fn detect(p: &Pixels, opts: &DetectOptions, avlum: f64) -> Detection {
                         .iter()
                         .all(|&(dx, dy)| {
                             st.gsn[p.at((x as i64 + dx) as usize, (y as i64 + dy) as usize)]
+                                as usize
                                 == before
                         });
                         if same {
@@ -496,11 +724,15 @@ pub fn detect(p: &Pixels, opts: &DetectOptions, avlum: f64) -> Detection {
                 continue;
             }
             let start = st.src.len();
+            // the pixels moved to the new sources (numbered from `start`): their box
+            let (mut x_lo, mut x_hi, mut y_lo, mut y_hi) = (usize::MAX, 0, usize::MAX, 0);
             if st.src[g].lum_max >= limit {
                 for x in 0..p.xres {
                     for y in 0..p.yres {
                         let i = p.at(x, y);
-                        if ok(i) && p.lum[i] >= limit && st.gsn[i] == g {
+                        if ok(i) && p.lum[i] >= limit && st.gsn[i] as usize == g {
+                            (x_lo, x_hi) = (x_lo.min(x), x_hi.max(x));
+                            (y_lo, y_hi) = (y_lo.min(y), y_hi.max(y));
                             let mut split = if st.src.len() == start {
                                 st.new_source()
                             } else {
@@ -514,13 +746,21 @@ pub fn detect(p: &Pixels, opts: &DetectOptions, avlum: f64) -> Detection {
                     }
                 }
             }
-            let mut change = true;
+            // Merge the new sources among themselves. Only pixels numbered from `start`
+            // act, and merging only renumbers them among those sources, so evalglare's
+            // passes over the whole picture come down to the box of the moved pixels (in
+            // the same order), and to nothing when no pixel moved.
+            if !st.prune {
+                // the whole picture, as evalglare (the test of the shortcuts)
+                (x_lo, x_hi, y_lo, y_hi) = (0, p.xres - 1, 0, p.yres - 1);
+            }
+            let mut change = st.src.len() > start || !st.prune;
             while change {
                 change = false;
-                for x in 0..p.xres {
-                    for y in 0..p.yres {
+                for x in x_lo..=x_hi {
+                    for y in y_lo..=y_hi {
                         let i = p.at(x, y);
-                        let before = st.gsn[i];
+                        let before = st.gsn[i] as usize;
                         if before >= start && before > 0 && ok(i) {
                             let igs = st.src.len() - 1;
                             if st.find_near(x, y, r, before, igs, start) != before {
@@ -535,14 +775,15 @@ pub fn detect(p: &Pixels, opts: &DetectOptions, avlum: f64) -> Detection {
 
     // direct illuminance of each source
     for i in 0..n {
-        let g = st.gsn[i];
+        let g = st.gsn[i] as usize;
         if g > 0 && ok(i) {
             let d = super::pixels::dot(p.camera.dir(), p.dir[i]) * p.omega[i] * p.lum[i];
             st.src[g].eglare += d;
         }
     }
 
-    Detection {
+    let walks = st.walks;
+    let det = Detection {
         sources: st.src,
         gsn: st.gsn,
         threshold,
@@ -550,5 +791,99 @@ pub fn detect(p: &Pixels, opts: &DetectOptions, avlum: f64) -> Detection {
         lum_task,
         search_pix,
         warnings,
+    };
+    (det, walks)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::formats::picture::{Picture, PixelFormat};
+    use crate::formats::view::View;
+    use crate::radiometry::Channels;
+
+    /// A 180° angular fisheye of `n²` pixels: a dim background with bright patches of
+    /// random sizes and places (some near each other, so they merge; some above the peak
+    /// limit, so they split), from a seeded generator.
+    fn spotted(n: usize, seed: u64) -> Pixels {
+        let mut state = seed;
+        let mut next = move || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let mut pic = Picture::new(n, n, Channels::rgb(), PixelFormat::Rgbe);
+        let mut lum = vec![1.0f64; n * n];
+        for _ in 0..12 {
+            let (cx, cy) = (next() * n as f64, next() * n as f64);
+            let (w, h) = (1.0 + next() * n as f64 / 8.0, 1.0 + next() * n as f64 / 8.0);
+            let l = if next() < 0.3 {
+                80000.0
+            } else {
+                3000.0 + next() * 20000.0
+            };
+            for y in 0..n {
+                for x in 0..n {
+                    if (x as f64 - cx).abs() < w && (y as f64 - cy).abs() < h {
+                        lum[x + y * n] = l * (0.9 + 0.2 * next());
+                    }
+                }
+            }
+        }
+        for (k, l) in lum.iter().enumerate() {
+            // grey pixels: R = G = B = L / 179
+            let v = (*l / 179.0) as f32;
+            pic.data[3 * k..3 * k + 3].copy_from_slice(&[v, v, v]);
+        }
+        let mut view = View::default();
+        for a in [
+            &["-vta"][..],
+            &["-vh", "180"],
+            &["-vv", "180"],
+            &["-vd", "0", "-1", "0"],
+        ] {
+            view.apply_arg(a).unwrap();
+        }
+        Pixels::new(&pic, view.setup().unwrap())
+    }
+
+    /// Skipping the merging walks that [`State::bigger_within`] rules out, and the peak
+    /// merging outside the moved pixels, leaves every source and every pixel's source
+    /// number as evalglare's full walks and passes make them, on pictures where sources do
+    /// merge and split and walks are skipped.
+    #[test]
+    fn skipped_walks_change_nothing() {
+        let (mut merged, mut skipped, mut ran) = (0, 0, 0);
+        for seed in 1..=6 {
+            let p = spotted(150, seed);
+            for radius in [0.1, 0.2, 0.5] {
+                let opts = DetectOptions {
+                    radius,
+                    ..DetectOptions::default()
+                };
+                let (full, w_full) = detect_with(&p, &opts, 10.0, false);
+                let (fast, w_fast) = detect_with(&p, &opts, 10.0, true);
+                assert_eq!(fast, full, "seed {seed}, radius {radius}");
+                assert_eq!(
+                    w_fast[0] + w_fast[1],
+                    w_full[0],
+                    "seed {seed}, radius {radius}"
+                );
+                merged += full
+                    .sources
+                    .iter()
+                    .skip(1)
+                    .filter(|s| s.npix == 0.0)
+                    .count();
+                skipped += w_fast[1];
+                ran += w_fast[0];
+            }
+        }
+        // not vacuous: sources merged, walks were both skipped and run
+        assert!(
+            merged > 10 && skipped > 1000 && ran > 10,
+            "{merged} {skipped} {ran}"
+        );
     }
 }

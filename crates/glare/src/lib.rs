@@ -67,7 +67,7 @@ pub enum Background {
 }
 
 /// Everything that shapes an evaluation.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Options {
     /// Detection.
     pub detect: DetectOptions,
@@ -79,6 +79,39 @@ pub struct Options {
     pub low_light: bool,
     /// Background luminance (`-q`).
     pub background: Background,
+    /// Compute [`PositionStats`] (a position index per pixel and three medians over a
+    /// million pixels: a third of the work on a large fisheye). evalglare prints them only
+    /// with `-d`, so `rglare` turns this off for its other outputs. Default on.
+    pub position_stats: bool,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Options {
+            detect: DetectOptions::default(),
+            model: PosModel::default(),
+            dgp: DgpCoefficients::default(),
+            low_light: false,
+            background: Background::default(),
+            position_stats: true,
+        }
+    }
+}
+
+/// evalglare's per-pixel position-weighted statistics over the valid pixels (the last
+/// values of its `-d` line).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PositionStats {
+    /// evalglare's `av_lum_pos`: Σ (L/P) ω / Σω.
+    pub av_lum_pos: f64,
+    /// evalglare's `av_lum_pos2`: Σ (L/P²) ω / (Σω)² (divided twice in its code).
+    pub av_lum_pos2: f64,
+    /// Median luminance of valid pixels.
+    pub med_lum: f64,
+    /// Median of L/P.
+    pub med_lum_pos: f64,
+    /// Median of L/P².
+    pub med_lum_pos2: f64,
 }
 
 /// One glare source as reported (evalglare's `-d` table row).
@@ -137,16 +170,8 @@ pub struct Evaluation {
     pub omega_sources: f64,
     /// Σ Lveil_cie.
     pub lveil_cie: f64,
-    /// evalglare's `av_lum_pos`: Σ (L/P) ω / Σω.
-    pub av_lum_pos: f64,
-    /// evalglare's `av_lum_pos2`: Σ (L/P²) ω / (Σω)² (divided twice in its code).
-    pub av_lum_pos2: f64,
-    /// Median luminance of valid pixels.
-    pub med_lum: f64,
-    /// Median of L/P.
-    pub med_lum_pos: f64,
-    /// Median of L/P².
-    pub med_lum_pos2: f64,
+    /// Position-weighted statistics (`None` unless [`Options::position_stats`]).
+    pub position: Option<PositionStats>,
     /// Threshold used (cd/m²) and how.
     pub threshold: f64,
     /// How the threshold was obtained.
@@ -155,7 +180,7 @@ pub struct Evaluation {
     pub notices: Vec<String>,
     /// Source number of every pixel (evalglare layout, renumbered 1..=n, 0 = none); for
     /// the check picture.
-    pub gsn: Vec<usize>,
+    pub gsn: Vec<u32>,
 }
 
 /// The view to evaluate `pic` with: its header's `VIEW=` lines, then `user` options on top
@@ -184,7 +209,8 @@ pub fn picture_view(pic: &Picture, name: &str, user: Option<&View>) -> Result<Vi
     Ok(view)
 }
 
-fn median(mut v: Vec<f64>) -> f64 {
+/// Median of `v` (the mean of the two middle values for an even count), reordering `v`.
+fn median(v: &mut [f64]) -> f64 {
     if v.is_empty() {
         return 0.0;
     }
@@ -202,6 +228,44 @@ fn median(mut v: Vec<f64>) -> f64 {
         (mid + lower) / 2.0
     } else {
         mid
+    }
+}
+
+/// [`PositionStats`] of the valid pixels, summed in pixel order as evalglare does.
+fn position_stats(p: &Pixels, model: PosModel, sang: f64) -> PositionStats {
+    use rayon::prelude::*;
+    let frame = posindex::Frame::new(p.camera.dir(), p.camera.view().vu);
+    let ok = |i: usize| p.inview[i] && p.valid[i];
+    let mut lum: Vec<f64> = (0..p.lum.len())
+        .filter(|&i| ok(i))
+        .map(|i| p.lum[i])
+        .collect();
+    let mut lum_pos = vec![0.0; lum.len()];
+    let mut lum_pos2 = vec![0.0; lum.len()];
+    // the position index of every valid pixel (the costly part), in parallel
+    let valid: Vec<usize> = (0..p.lum.len()).filter(|&i| ok(i)).collect();
+    valid
+        .par_iter()
+        .zip(lum_pos.par_iter_mut())
+        .zip(lum_pos2.par_iter_mut())
+        .for_each(|((&i, a), b)| {
+            let pos = frame.posindex(p.dir[i], model);
+            *a = p.lum[i] / pos;
+            *b = p.lum[i] / pos / pos;
+        });
+    let (mut pos1, mut pos2) = (0.0, 0.0);
+    for (k, &i) in valid.iter().enumerate() {
+        let om = p.omega[i];
+        pos1 += lum_pos[k] * om;
+        pos2 += lum_pos2[k] * om;
+    }
+    drop(valid);
+    PositionStats {
+        av_lum_pos: pos1 / sang,
+        av_lum_pos2: pos2 / sang / sang,
+        med_lum: median(&mut lum),
+        med_lum_pos: median(&mut lum_pos),
+        med_lum_pos2: median(&mut lum_pos2),
     }
 }
 
@@ -223,7 +287,6 @@ pub fn evaluate(pic: &Picture, view: &View, opts: &Options) -> Result<Evaluation
 
 /// Evaluate prepared pixels.
 pub fn evaluate_pixels(p: &Pixels, opts: &Options) -> Evaluation {
-    use rayon::prelude::*;
     let vdir = p.camera.dir();
     let vup = p.camera.view().vu;
     let model = opts.model;
@@ -232,60 +295,33 @@ pub fn evaluate_pixels(p: &Pixels, opts: &Options) -> Evaluation {
         notices.push("warning: image has perspective view type specified in header !".into());
     }
 
-    // pass over valid pixels: E_v, mean luminance, position-weighted statistics
-    struct Acc {
-        sang: f64,
-        e_v: f64,
-        avlum: f64,
-        abs_max: f64,
-        pos1: f64,
-        pos2: f64,
-    }
-    let valid: Vec<usize> = (0..p.dir.len())
-        .filter(|&i| p.inview[i] && p.valid[i])
-        .collect();
-    let per: Vec<(f64, f64)> = valid
-        .par_iter()
-        .map(|&i| {
-            let pos = posindex::posindex(vdir, vup, p.dir[i], model);
-            (p.lum[i] / pos, p.lum[i] / pos / pos)
-        })
-        .collect();
-    let mut a = Acc {
-        sang: 0.0,
-        e_v: 0.0,
-        avlum: 0.0,
-        abs_max: 0.0,
-        pos1: 0.0,
-        pos2: 0.0,
-    };
-    for (k, &i) in valid.iter().enumerate() {
+    // pass over valid pixels: E_v, mean luminance (in pixel order, as evalglare sums)
+    let (mut sang, mut e_v, mut avlum, mut abs_max) = (0.0, 0.0, 0.0, 0.0f64);
+    for i in 0..p.lum.len() {
+        if !(p.inview[i] && p.valid[i]) {
+            continue;
+        }
         let (om, l) = (p.omega[i], p.lum[i]);
-        a.abs_max = a.abs_max.max(l);
-        a.sang += om;
-        a.e_v += dot(vdir, p.dir[i]) * om * l;
-        a.avlum += om * l;
-        a.pos1 += per[k].0 * om;
-        a.pos2 += per[k].1 * om;
+        abs_max = abs_max.max(l);
+        sang += om;
+        e_v += dot(vdir, p.dir[i]) * om * l;
+        avlum += om * l;
     }
-    let av_lum_pos = a.pos1 / a.sang;
-    let av_lum_pos2 = a.pos2 / a.sang / a.sang;
-    let med_lum = median(valid.iter().map(|&i| p.lum[i]).collect());
-    let med_lum_pos = median(per.iter().map(|t| t.0).collect());
-    let med_lum_pos2 = median(per.iter().map(|t| t.1).collect());
-    let e_v = a.e_v;
-    let avlum = a.avlum / a.sang;
+    let avlum = avlum / sang;
+    let position = opts
+        .position_stats
+        .then(|| position_stats(p, opts.model, sang));
 
     let det = detect::detect(p, &opts.detect, avlum);
     notices.extend(det.warnings.iter().map(|w| format!("warning: {w}")));
 
     // active sources in internal order, renumbered 1..=n
-    let mut renum = vec![0usize; det.sources.len()];
+    let mut renum = vec![0u32; det.sources.len()];
     let mut active = Vec::new();
     for (g, s) in det.sources.iter().enumerate() {
         if s.npix > 0.0 {
             active.push(g);
-            renum[g] = active.len();
+            renum[g] = active.len() as u32;
         }
     }
     // fold from +0: an empty f64 sum is −0, which would print as "-0.000000"
@@ -312,10 +348,10 @@ pub fn evaluate_pixels(p: &Pixels, opts: &Options) -> Evaluation {
         Background::Cosine => lum_backg_cos,
         Background::Ev => e_v / metrics::PI_EG,
         Background::MeanWithoutSources => {
-            if a.sang == omega_sources {
+            if sang == omega_sources {
                 avlum
             } else {
-                (a.sang * avlum - lum_sources_sum) / (a.sang - omega_sources)
+                (sang * avlum - lum_sources_sum) / (sang - omega_sources)
             }
         }
     };
@@ -381,7 +417,10 @@ pub fn evaluate_pixels(p: &Pixels, opts: &Options) -> Evaluation {
     if e_v < 380.0 {
         notices.push("Notice: Low brightness scene. Vertical illuminance less than 380 lux! dgp might underestimate glare sources".into());
     }
-    let gsn = det.gsn.iter().map(|&g| renum[g]).collect();
+    let mut gsn = det.gsn;
+    for g in &mut gsn {
+        *g = renum[*g as usize];
+    }
     Evaluation {
         sources,
         metrics: m,
@@ -390,15 +429,11 @@ pub fn evaluate_pixels(p: &Pixels, opts: &Options) -> Evaluation {
         avlum,
         lum_backg,
         lum_task: det.lum_task,
-        abs_max: a.abs_max,
+        abs_max,
         lum_sources,
         omega_sources,
         lveil_cie,
-        av_lum_pos,
-        av_lum_pos2,
-        med_lum,
-        med_lum_pos,
-        med_lum_pos2,
+        position,
         threshold: det.threshold,
         method: det.method,
         notices,

@@ -24,7 +24,7 @@
 //!   (`dir·vdir ≥ 0`; the corners of a 180° angular fisheye do not).
 
 use crate::formats::picture::Picture;
-use crate::formats::view::{Camera, quad_solid_angle};
+use crate::formats::view::{Camera, column_solid_angles};
 
 /// 3-vectors; the dot product in Radiance's order (`DOT`) keeps `acos(dot)` of a pixel with
 /// itself bit-identical to evalglare's.
@@ -60,7 +60,6 @@ impl Pixels {
         let angular = camera.view().vtype == crate::formats::view::ViewType::Angular;
         let not_parallel = camera.view().vtype != crate::formats::view::ViewType::Parallel;
         let vdir = camera.dir();
-        let ex = pic.exposure();
         let n = xres * yres;
         let mut p = Pixels {
             xres,
@@ -76,48 +75,66 @@ impl Pixels {
         // a column is a contiguous run of yres pixels, y from the bottom). Pixel corners
         // are shared by adjacent pixels: a block computes its `BLOCK + 1` corner columns
         // once (the values `Camera::pixel_solid_angle` computes, with about a quarter of
-        // the view rays).
+        // the view rays). Directions come a column at a time (`Camera::view_dirs`: the
+        // same numbers as `pixel_ray`), luminances a picture row of the block at a time
+        // (the picture is stored row by row).
         const BLOCK: usize = 16;
         let chunk = (BLOCK * yres).max(1);
         let cam = &p.camera;
-        let corners = |cx: usize| -> Vec<Option<V3>> {
-            let fx = cx as f64 / xres as f64;
-            (0..=yres)
-                .map(|k| cam.view_ray(fx, k as f64 / yres as f64).map(|r| r.dir))
-                .collect()
+        // image-plane y of the corner rows (k / yres, k = 0 at the bottom) and of the pixel
+        // centres of y = 0, 1, ... from the bottom (Radiance's pix2loc: (y + ½) / yres)
+        let corner_y: Vec<f64> = (0..=yres).map(|k| k as f64 / yres as f64).collect();
+        let centre_y: Vec<f64> = (0..yres).map(|y| (y as f64 + 0.5) / yres as f64).collect();
+        let corners = |cx: usize, out: &mut [Option<V3>]| {
+            cam.view_dirs(cx as f64 / xres as f64, &corner_y, out);
         };
+        let lum_of = Luminance::new(pic);
+        // Luminances in bands of rows: each picture row is read whole and in order (the
+        // hardware prefetches it), while the band's part of every column stays in cache
+        // until it is filled. (A block of columns at a time missed the cache on every row.)
+        const BAND: usize = 16;
+        for y0 in (0..yres).step_by(BAND) {
+            for y in y0..(y0 + BAND).min(yres) {
+                let row = yres - 1 - y;
+                for x in 0..xres {
+                    p.lum[x * yres + y] = lum_of.at(x, row);
+                }
+            }
+        }
         p.dir
             .par_chunks_mut(chunk)
             .zip(p.omega.par_chunks_mut(chunk))
-            .zip(p.lum.par_chunks_mut(chunk))
             .zip(p.inview.par_chunks_mut(chunk))
             .zip(p.valid.par_chunks_mut(chunk))
             .enumerate()
-            .for_each(|(b, ((((dir, omega), lum), inview), valid))| {
+            .for_each(|(b, (((dir, omega), inview), valid))| {
                 let x0 = b * BLOCK;
-                let mut c0 = corners(x0);
-                for c in 0..dir.len() / yres {
+                let ncol = dir.len() / yres;
+                let mut c0 = vec![None; yres + 1];
+                let mut c1 = vec![None; yres + 1];
+                let mut centre = vec![None; yres];
+                let mut om_col = vec![0.0; yres];
+                corners(x0, &mut c0);
+                for c in 0..ncol {
                     let x = x0 + c;
-                    let c1 = corners(x + 1);
-                    for y in 0..yres {
+                    corners(x + 1, &mut c1);
+                    cam.view_dirs((x as f64 + 0.5) / xres as f64, &centre_y, &mut centre);
+                    // by image row k from the bottom of the image plane; pixel y's is
+                    // row yres − 1 − y (evalglare's mirrored solid angle, module docs)
+                    if not_parallel {
+                        column_solid_angles(&c0, &c1, &mut om_col);
+                    }
+                    for (y, centre) in centre.iter().enumerate() {
                         let i = c * yres + y;
-                        let row = yres - 1 - y;
-                        let k = yres - 1 - y;
-                        let om = match (not_parallel, c0[k], c1[k], c1[k + 1], c0[k + 1]) {
-                            (true, Some(a), Some(b), Some(c), Some(d)) => {
-                                quad_solid_angle(a, b, c, d)
-                            }
-                            _ => 0.0,
-                        };
+                        let om = om_col[yres - 1 - y];
                         omega[i] = om;
-                        lum[i] = luminance(pic, x, row, &ex);
-                        if let Some(r) = cam.pixel_ray(x, row, xres, yres) {
-                            dir[i] = r.dir;
+                        if let Some(d) = *centre {
+                            dir[i] = d;
                             inview[i] = true;
-                            valid[i] = om > 0.0 && (!angular || dot(r.dir, vdir) >= 0.0);
+                            valid[i] = om > 0.0 && (!angular || dot(d, vdir) >= 0.0);
                         }
                     }
-                    c0 = c1;
+                    std::mem::swap(&mut c0, &mut c1);
                 }
             });
         p
@@ -178,17 +195,38 @@ impl Pixels {
 // the values color.h's macros compute, which evalglare uses).
 use crate::radiometry::{RGB_PHOTOPIC as CIE_RGB_W, WHITE_EFFICACY as WHTEFFICACY};
 
-/// Radiance's `luminance()` of the pixel with the exposure `ex` (per channel) divided out:
-/// what [`Picture::luminance`] computes, without recomputing the exposure per pixel.
-fn luminance(pic: &Picture, x: usize, row: usize, ex: &[f64]) -> f64 {
-    use crate::formats::picture::PixelFormat;
-    let px = pic.pixel(x, row);
-    match pic.format {
-        PixelFormat::Rgbe => {
-            let [r, g, b] = CIE_RGB_W;
-            WHTEFFICACY
-                * (r * px[0] as f64 / ex[0] + g * px[1] as f64 / ex[1] + b * px[2] as f64 / ex[2])
+/// Radiance's `luminance()` of a pixel with the exposure divided out: what
+/// [`Picture::luminance`] computes, without recomputing the exposure per pixel.
+struct Luminance<'a> {
+    pic: &'a Picture,
+    /// The exposure per channel.
+    ex: Vec<f64>,
+    rgbe: bool,
+    ncomp: usize,
+}
+
+impl<'a> Luminance<'a> {
+    fn new(pic: &'a Picture) -> Self {
+        use crate::formats::picture::PixelFormat;
+        Luminance {
+            pic,
+            ex: pic.exposure(),
+            rgbe: pic.format == PixelFormat::Rgbe,
+            ncomp: pic.ncomp(),
         }
-        _ => pic.luminance(x, row),
+    }
+
+    /// Pixel `x` of picture row `row` (from the top).
+    #[inline]
+    fn at(&self, x: usize, row: usize) -> f64 {
+        if !self.rgbe {
+            return self.pic.luminance(x, row);
+        }
+        let at = (row * self.pic.width + x) * self.ncomp;
+        let px = &self.pic.data[at..at + 3];
+        let ex = &self.ex;
+        let [r, g, b] = CIE_RGB_W;
+        WHTEFFICACY
+            * (r * px[0] as f64 / ex[0] + g * px[1] as f64 / ex[1] + b * px[2] as f64 / ex[2])
     }
 }

@@ -41,16 +41,74 @@ pub struct Angles {
 
 /// σ, τ and φ of `d` (see the module documentation).
 pub fn angles(vdir: V3, vup: V3, d: V3) -> Angles {
-    let vdir = normalize(vdir);
-    let vup = normalize(vup);
-    let sigma = dot(vdir, d).acos();
-    let c = sigma.cos();
-    let hv = normalize([d[0] / c - vdir[0], d[1] / c - vdir[1], d[2] / c - vdir[2]]);
-    let tau = dot(vup, hv).acos();
-    let h = cross(vdir, vup);
-    let v = cross(vdir, h);
-    let phi = dot(v, d).acos() - std::f64::consts::FRAC_PI_2;
-    Angles { sigma, tau, phi }
+    Frame::new(vdir, vup).angles(d)
+}
+
+/// The view's axes as [`angles`] uses them, made once for many directions (a position index
+/// per pixel): the same numbers as [`angles`] and [`posindex`], bit for bit.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Frame {
+    /// Unit view direction D.
+    vdir: V3,
+    /// Unit view up U.
+    vup: V3,
+    /// `V = D × (D × U)` (not normalised, as pictool has it).
+    v: V3,
+}
+
+impl Frame {
+    /// The frame of a view direction and up vector (normalised here).
+    pub fn new(vdir: V3, vup: V3) -> Frame {
+        let vdir = normalize(vdir);
+        let vup = normalize(vup);
+        let h = cross(vdir, vup);
+        Frame {
+            vdir,
+            vup,
+            v: cross(vdir, h),
+        }
+    }
+
+    /// σ, τ and φ of `d`.
+    pub fn angles(&self, d: V3) -> Angles {
+        let vdir = self.vdir;
+        let sigma = dot(vdir, d).acos();
+        let c = sigma.cos();
+        let hv = normalize([d[0] / c - vdir[0], d[1] / c - vdir[1], d[2] / c - vdir[2]]);
+        let tau = dot(self.vup, hv).acos();
+        let phi = dot(self.v, d).acos() - std::f64::consts::FRAC_PI_2;
+        Angles { sigma, tau, phi }
+    }
+
+    /// Position index of direction `d` ([`posindex`]).
+    pub fn posindex(&self, d: V3, model: PosModel) -> f64 {
+        let a = self.angles(d);
+        let tau = a.tau * DEG;
+        let sigma = a.sigma.abs() * DEG;
+        let phi = if a.phi == 0.0 { 0.00001 } else { a.phi };
+        let p = match model {
+            PosModel::Kim => ((sigma
+                - (-0.000009 * tau.powi(3) + 0.0014 * tau * tau + 0.0866 * tau + 21.633))
+                / (-0.000009 * tau.powi(3) + 0.0013 * tau * tau + 0.0853 * tau + 8.772))
+                .exp(),
+            PosModel::GuthIwata => {
+                // evalglare evaluates Guth everywhere and overwrites it below the line of
+                // sight; it is only computed where it is kept
+                let p = if phi < 0.0 {
+                    let beta = ((sigma / DEG).tan()
+                        * (1.0 + 0.3225 * (tau / DEG).cos().powi(2)).sqrt())
+                    .atan()
+                        * DEG;
+                    (6.49 / 1000.0 * beta + 21.0 / 100000.0 * beta * beta).exp()
+                } else {
+                    guth(tau, sigma)
+                };
+                p.min(16.0)
+            }
+        };
+        // evalglare returns a float
+        p as f32 as f64
+    }
 }
 
 /// Guth's position index (IES Lighting Handbook) for the angle τ from the vertical and σ
@@ -98,31 +156,9 @@ pub fn dcglare_posindex(dir: V3, forward: V3, up: V3) -> f64 {
 /// evalglare's degrees per radian (`180/3.1415927`).
 pub const DEG: f64 = 180.0 / super::metrics::PI_EG;
 
-/// Position index of direction `d`.
+/// Position index of direction `d` (see the module documentation).
 pub fn posindex(vdir: V3, vup: V3, d: V3, model: PosModel) -> f64 {
-    let a = angles(vdir, vup, d);
-    let tau = a.tau * DEG;
-    let sigma = a.sigma.abs() * DEG;
-    let phi = if a.phi == 0.0 { 0.00001 } else { a.phi };
-    let p = match model {
-        PosModel::Kim => ((sigma
-            - (-0.000009 * tau.powi(3) + 0.0014 * tau * tau + 0.0866 * tau + 21.633))
-            / (-0.000009 * tau.powi(3) + 0.0013 * tau * tau + 0.0853 * tau + 8.772))
-            .exp(),
-        PosModel::GuthIwata => {
-            let mut p = guth(tau, sigma);
-            if phi < 0.0 {
-                let beta = ((sigma / DEG).tan()
-                    * (1.0 + 0.3225 * (tau / DEG).cos().powi(2)).sqrt())
-                .atan()
-                    * DEG;
-                p = (6.49 / 1000.0 * beta + 21.0 / 100000.0 * beta * beta).exp();
-            }
-            p.min(16.0)
-        }
-    };
-    // evalglare returns a float
-    p as f32 as f64
+    Frame::new(vdir, vup).posindex(d, model)
 }
 
 #[cfg(test)]

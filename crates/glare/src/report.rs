@@ -15,7 +15,7 @@
 //! The detection method and threshold are never written to standard output (that would
 //! break evalglare-compatible parsing); [`method_line`] is what `rglare` prints on stderr.
 
-use super::{Evaluation, Method};
+use super::{Evaluation, Method, PositionStats};
 
 /// The default one-line output.
 pub fn default_line(e: &Evaluation) -> String {
@@ -31,7 +31,8 @@ pub fn ev_line(e_v: f64) -> String {
     format!("{e_v:.6}\n")
 }
 
-/// The detailed (`-d`) output.
+/// The detailed (`-d`) output (of an evaluation made with [`super::Options::position_stats`]:
+/// without, its five values print as NaN).
 pub fn detailed(e: &Evaluation) -> String {
     let mut s = format!(
         "{} No pixels x-pos y-pos L_s Omega_s Posindx L_b L_t E_v Edir Max_Lum Sigma xdir ydir zdir Eglare Lveil_cie teta glare_zone r_contrast r_dgp\n",
@@ -81,6 +82,14 @@ pub fn detailed(e: &Evaluation) -> String {
         );
     }
     let m = &e.metrics;
+    let nan = f64::NAN;
+    let ps = e.position.unwrap_or(PositionStats {
+        av_lum_pos: nan,
+        av_lum_pos2: nan,
+        med_lum: nan,
+        med_lum_pos: nan,
+        med_lum_pos2: nan,
+    });
     let v = [
         m.dgp,
         e.avlum,
@@ -99,11 +108,11 @@ pub fn detailed(e: &Evaluation) -> String {
         m.ugp,
         m.ugr_exp,
         m.dgi_mod,
-        e.av_lum_pos,
-        e.av_lum_pos2,
-        e.med_lum,
-        e.med_lum_pos,
-        e.med_lum_pos2,
+        ps.av_lum_pos,
+        ps.av_lum_pos2,
+        ps.med_lum,
+        ps.med_lum_pos,
+        ps.med_lum_pos2,
         m.ugp2,
     ];
     s += "dgp,av_lum,E_v,lum_backg,E_v_dir,dgi,ugr,vcp,cgi,lum_sources,omega_sources,Lveil,Lveil_cie,dgr,ugp,ugr_exp,dgi_mod,av_lum_pos,av_lum_pos2,med_lum,med_lum_pos,med_lum_pos2,ugp2:";

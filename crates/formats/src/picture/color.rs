@@ -33,8 +33,10 @@ pub fn cxponent(e: u8) -> f32 {
         0.0
     } else {
         // 2^(e-136) lies in [2^-135, 2^119]: exact in f64 and in f32 (2^-135 is a
-        // subnormal f32, still exact), so the cast loses nothing.
-        (2f64).powi(e as i32 - 136) as f32
+        // subnormal f32, still exact), so the cast loses nothing. The f64 is built from
+        // its exponent bits (a power of two is a bare exponent field), not by powi's
+        // repeated products: this runs for every pixel read.
+        f64::from_bits(((e as i64 - 136 + 1023) as u64) << 52) as f32
     }
 }
 
@@ -147,6 +149,20 @@ pub fn decode_scolr(bytes: &[u8], out: &mut [f32]) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Every exponent byte's scale is 2^(e-136) exactly (0 for byte 0), as powi gives it.
+    #[test]
+    fn cxponent_is_the_power_of_two() {
+        assert_eq!(cxponent(0), 0.0);
+        for e in 1..=255u8 {
+            let want = (2f64).powi(e as i32 - 136) as f32;
+            assert_eq!(cxponent(e).to_bits(), want.to_bits(), "exponent byte {e}");
+            assert!(want > 0.0, "exponent byte {e}");
+        }
+        assert_eq!(cxponent(136), 1.0);
+        // 2^-135 = 2^14 · 2^-149, the subnormal f32 with mantissa bits 1 << 14
+        assert_eq!(cxponent(1).to_bits(), 1 << 14);
+    }
 
     #[test]
     fn white_is_128_128_128_129() {

@@ -56,7 +56,7 @@
 mod camera;
 mod parse;
 
-pub use camera::{Camera, ImageLoc, ViewRay, quad_solid_angle};
+pub use camera::{Camera, ImageLoc, ViewRay, column_solid_angles, quad_solid_angle};
 pub use parse::is_view_line;
 
 use std::fmt;
