@@ -19,14 +19,17 @@
 //! is an error (Radiance reads to end of file), words are not cut at 511 characters, reals
 //! that overflow to infinity are rejected.
 
+use std::borrow::Cow;
+use std::cell::Cell;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
+use std::rc::Rc;
 
 use nom::{
     IResult, Parser,
     branch::alt,
-    bytes::complete::{tag, take_till, take_while, take_while1},
-    character::complete::{char, digit0, digit1, one_of},
+    bytes::complete::{tag, take_till, take_while1},
+    character::complete::{char, digit1, one_of},
     combinator::{all_consuming, opt, recognize},
     multi::{fold_many1, many0},
     sequence::delimited,
@@ -35,6 +38,7 @@ use nom::{
 use super::otype::OType;
 use super::primitive::Primitive;
 use super::specdata::SpecData;
+use super::table::{SurfaceTable, is_plain_surface};
 use super::{Alias, LoadOptions, Object, Scene, exec};
 use crate::error::{Error, Location, Result};
 
@@ -57,9 +61,46 @@ fn is_quote(c: char) -> bool {
     c == '\'' || c == '"'
 }
 
+/// C `isspace` for one byte of UTF-8 text (white space is ASCII, and no byte of a
+/// multi-byte character is).
+fn is_space_byte(b: u8) -> bool {
+    matches!(b, b' ' | b'\t' | b'\n' | 0x0B | 0x0C | b'\r')
+}
+
+/// A byte of an unquoted word.
+fn is_plain_byte(b: u8) -> bool {
+    !is_space_byte(b) && b != b'\'' && b != b'"'
+}
+
+/// nom's `take_while` over bytes, with the predicate inlined: nom calls it through a
+/// reference for every byte, and for the ~100 MB of a 1M-polygon scene those calls were a
+/// third of the reading time (issue 18). Never fails (an empty match is allowed).
+#[inline(always)]
+fn bytes_while(input: &[u8], f: impl Fn(u8) -> bool) -> IResult<&[u8], &[u8], ()> {
+    let n = input.iter().position(|&b| !f(b)).unwrap_or(input.len());
+    Ok((&input[n..], &input[..n]))
+}
+
+/// [`bytes_while`] that needs at least one byte (nom's `take_while1`).
+#[inline(always)]
+fn bytes_while1(input: &[u8], f: impl Fn(u8) -> bool) -> IResult<&[u8], &[u8], ()> {
+    match bytes_while(input, f)? {
+        (_, []) => Err(nom::Err::Error(())),
+        ok => Ok(ok),
+    }
+}
+
 /// One word as `fgetword` reads it: runs of unquoted non-space characters and quoted
-/// segments (quotes removed), up to the first unquoted white space.
-fn word(input: &str) -> IResult<&str, String> {
+/// segments (quotes removed), up to the first unquoted white space. A word without quotes
+/// (nearly all of them) is found byte by byte and borrowed from the input, not copied.
+fn word(input: &str) -> IResult<&str, Cow<'_, str>> {
+    if let Ok((rest, w)) = bytes_while1(input.as_bytes(), is_plain_byte) {
+        if !matches!(rest.first(), Some(b'\'' | b'"')) {
+            // The word ends before an ASCII byte (or the end): a character boundary.
+            let (w, rest) = input.split_at(w.len());
+            return Ok((rest, Cow::Borrowed(w)));
+        }
+    }
     fold_many1(
         alt((
             delimited(char('\''), take_till(|c| c == '\''), char('\'')),
@@ -72,6 +113,7 @@ fn word(input: &str) -> IResult<&str, String> {
             acc
         },
     )
+    .map(Cow::Owned)
     .parse(input)
 }
 
@@ -95,6 +137,10 @@ fn comment(input: &str) -> IResult<&str, &str> {
 
 /// `isint` from `src/common/words.c`: optional sign, digits.
 fn parse_count(w: &str) -> Option<i64> {
+    // One digit (nearly every count: `0`, `0`, `9`) without the general grammar.
+    if let [d @ b'0'..=b'9'] = w.as_bytes() {
+        return Some(i64::from(d - b'0'));
+    }
     all_consuming(recognize((opt(one_of("+-")), digit1::<&str, ()>)))
         .parse(w)
         .ok()
@@ -104,39 +150,97 @@ fn parse_count(w: &str) -> Option<i64> {
 /// A real argument: `isflt` syntax from `src/common/words.c` (optional sign, digits with an
 /// optional fraction or a fraction alone, optional exponent), converted like `atof`. Returns
 /// `None` for anything else, including values that overflow to infinity.
+///
+/// The check is on the characters only (digits, signs, `.`, `e`, `E`): over them Rust's own
+/// float grammar (`f64::from_str`: sign, digits with an optional fraction or a fraction
+/// alone, optional exponent, `e` in either case) is exactly `isflt`'s, so the conversion
+/// rejects the rest (`1.2.3`, `1e`, `--1`); the words `inf` and `nan` it would take are not
+/// made of those characters.
 pub(crate) fn parse_real(w: &str) -> Option<f64> {
-    let mantissa = alt((
-        recognize((digit1::<&str, ()>, opt((char('.'), digit0)))),
-        recognize((char('.'), digit1)),
-    ));
-    let exponent = opt((one_of("eE"), opt(one_of("+-")), digit1));
-    all_consuming(recognize((opt(one_of("+-")), mantissa, exponent)))
-        .parse(w)
-        .ok()?;
+    // Plain decimals (nearly every coordinate) are recognised and converted in one pass.
+    if let Some(v) = plain_decimal(w.as_bytes()) {
+        return Some(v);
+    }
+    let (rest, _) = bytes_while1(w.as_bytes(), |b: u8| {
+        b.is_ascii_digit() || matches!(b, b'+' | b'-' | b'.' | b'e' | b'E')
+    })
+    .ok()?;
+    if !rest.is_empty() {
+        return None;
+    }
     w.parse::<f64>().ok().filter(|v| v.is_finite())
+}
+
+/// Powers of ten exact in `f64`.
+const POW10: [f64; 23] = [
+    1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16,
+    1e17, 1e18, 1e19, 1e20, 1e21, 1e22,
+];
+
+/// The value of `[+-]digits[.digits]` without an exponent, when its digits make an integer
+/// `m < 2^53` and it has at most 22 decimals: then `m` and `10^k` are exact doubles and
+/// one division rounds correctly (Clinger 1990, "How to read floating point numbers
+/// accurately"), so the result is the very double `f64::from_str` gives, found without its
+/// general machinery (issue 18: converting 9M coordinates was a fifth of loading a
+/// 1M-polygon scene). `None` for anything else (the caller converts it the general way).
+fn plain_decimal(b: &[u8]) -> Option<f64> {
+    let (neg, mut i) = match b.first()? {
+        b'-' => (true, 1),
+        b'+' => (false, 1),
+        _ => (false, 0),
+    };
+    // Wrapping arithmetic: more than 15 digits are refused below, before `m` is used.
+    let mut m: u64 = 0;
+    let int_start = i;
+    while let Some(&c @ b'0'..=b'9') = b.get(i) {
+        m = m.wrapping_mul(10).wrapping_add(u64::from(c - b'0'));
+        i += 1;
+    }
+    let mut n = i - int_start;
+    let mut k = 0;
+    if b.get(i) == Some(&b'.') {
+        i += 1;
+        let frac_start = i;
+        while let Some(&c @ b'0'..=b'9') = b.get(i) {
+            m = m.wrapping_mul(10).wrapping_add(u64::from(c - b'0'));
+            i += 1;
+        }
+        k = i - frac_start;
+        n += k;
+    }
+    // Up to 15 digits: `m` < 10^15 < 2^53, and `k` <= 15 < 23.
+    if i != b.len() || n == 0 || n > 15 {
+        return None;
+    }
+    let v = m as f64 / POW10[k];
+    Some(if neg { -v } else { v })
 }
 
 /// One piece of scene text being read.
 struct Source<'t> {
     /// File name as shown in locations (`room.rad`, `<stdin>`, `room.rad:12: !genbox ...`).
-    name: String,
+    name: Rc<str>,
     text: &'t str,
     /// Folder for `!` commands and data files.
     base_dir: PathBuf,
-    line_starts: Vec<usize>,
     pos: usize,
+    /// The last offset a line number was asked for and its line: objects are read in
+    /// order, so each lookup counts only the newlines since the previous one (a table of
+    /// line starts cost 8 bytes per line and a binary search per object).
+    cursor: Cell<(usize, usize)>,
+    /// The file's number in a [`SurfaceTable`], once it has one.
+    file_number: Cell<Option<u32>>,
 }
 
 impl<'t> Source<'t> {
     fn new(name: String, text: &'t str, base_dir: PathBuf) -> Self {
-        let mut line_starts = vec![0];
-        line_starts.extend(text.match_indices('\n').map(|(i, _)| i + 1));
         Source {
-            name,
+            name: name.into(),
             text,
             base_dir,
-            line_starts,
             pos: 0,
+            cursor: Cell::new((0, 1)),
+            file_number: Cell::new(None),
         }
     }
 
@@ -148,9 +252,24 @@ impl<'t> Source<'t> {
         self.pos = self.text.len() - rest.len();
     }
 
+    /// 1-based line and column (in characters) of byte `offset`.
     fn line_col(&self, offset: usize) -> (usize, usize) {
-        let line = self.line_starts.partition_point(|&s| s <= offset).max(1);
-        let start = self.line_starts.get(line - 1).copied().unwrap_or(0);
+        let bytes = self.text.as_bytes();
+        let offset = offset.min(bytes.len());
+        let (mut from, mut line) = self.cursor.get();
+        if offset < from {
+            (from, line) = (0, 1);
+        }
+        // A sum of 0/1 bytes: vectorised, unlike a counting filter.
+        line += bytes[from..offset]
+            .iter()
+            .map(|&b| usize::from(b == b'\n'))
+            .sum::<usize>();
+        self.cursor.set((offset, line));
+        let start = bytes[..offset]
+            .iter()
+            .rposition(|&b| b == b'\n')
+            .map_or(0, |i| i + 1);
         let col = self
             .text
             .get(start..offset)
@@ -159,18 +278,17 @@ impl<'t> Source<'t> {
     }
 
     fn skip_space(&mut self) {
-        let (rest, _) = take_while::<_, &str, ()>(is_space)
-            .parse(self.rest())
-            .unwrap_or((self.rest(), ""));
-        self.advance(rest);
+        let bytes = self.rest().as_bytes();
+        let (rest, _) = bytes_while(bytes, is_space_byte).unwrap_or((bytes, &[]));
+        // White space is ASCII, so what follows starts a character.
+        self.pos = self.text.len() - rest.len();
     }
 
     /// The location of byte `offset`, computed only when it is needed (an error, or once
-    /// per object): a 1M-polygon scene has ~15M words, and building a `Location` (line
-    /// search, column count, file-name copy) for each was most of the load time.
+    /// per object): a 1M-polygon scene has ~15M words.
     fn at(&self, offset: usize) -> Location {
         let (l, c) = self.line_col(offset);
-        Location::at(self.name.clone(), l, c)
+        Location::at(self.name.to_string(), l, c)
     }
 
     /// The next word and the byte offset where it starts, or an error naming `context` and
@@ -179,7 +297,7 @@ impl<'t> Source<'t> {
         &mut self,
         context: &dyn Fn() -> String,
         what: &dyn Fn() -> String,
-    ) -> Result<(String, usize)> {
+    ) -> Result<(Cow<'t, str>, usize)> {
         self.skip_space();
         let start = self.pos;
         if self.rest().is_empty() {
@@ -201,7 +319,7 @@ impl<'t> Source<'t> {
     }
 }
 
-/// Builds a [`Scene`] from one or more pieces of text.
+/// Builds a [`Scene`] (or a [`super::CompactScene`]) from one or more pieces of text.
 pub(crate) struct Loader<'o> {
     opts: &'o LoadOptions,
     objects: Vec<Object>,
@@ -211,6 +329,16 @@ pub(crate) struct Loader<'o> {
     /// Inline commands run so far, and the most allowed ([`MAX_COMMANDS`]).
     commands: usize,
     max_commands: usize,
+    /// Plain surfaces go here instead of `objects` when set ([`Loader::compact`]).
+    table: Option<SurfaceTable>,
+    /// With a table: the position among all objects of each of `objects`.
+    rest_index: Vec<u32>,
+    /// The real arguments of the object being read (reused: one allocation per load).
+    reals: Vec<f64>,
+    /// Files read besides the inputs (`specfile` data).
+    files: Vec<PathBuf>,
+    /// Inline commands run (their text).
+    ran: Vec<String>,
 }
 
 impl<'o> Loader<'o> {
@@ -222,6 +350,19 @@ impl<'o> Loader<'o> {
             modifiers: HashMap::new(),
             commands: 0,
             max_commands: MAX_COMMANDS,
+            table: None,
+            rest_index: Vec::new(),
+            reals: Vec::new(),
+            files: Vec::new(),
+            ran: Vec::new(),
+        }
+    }
+
+    /// A loader that keeps plain surfaces in a [`SurfaceTable`] ([`Loader::finish_compact`]).
+    pub fn compact(opts: &'o LoadOptions) -> Self {
+        Loader {
+            table: Some(SurfaceTable::default()),
+            ..Loader::new(opts)
         }
     }
 
@@ -232,9 +373,22 @@ impl<'o> Loader<'o> {
         }
     }
 
+    pub fn finish_compact(self) -> super::CompactScene {
+        super::CompactScene {
+            rest: Scene {
+                objects: self.objects,
+                directives: self.directives,
+            },
+            rest_index: self.rest_index,
+            surfaces: self.table.unwrap_or_default(),
+            files: self.files,
+            commands: self.ran,
+        }
+    }
+
     /// Objects read so far.
     pub fn len(&self) -> usize {
-        self.objects.len()
+        self.objects.len() + self.table.as_ref().map_or(0, SurfaceTable::len)
     }
 
     /// Read one scene input as Radiance names them: `-` (stdin), `!command`, or a file.
@@ -253,7 +407,11 @@ impl<'o> Loader<'o> {
         } else {
             let buf = std::fs::read(input).map_err(|e| Error::io(input, e))?;
             super::wrong_kind::check(&buf, input)?;
-            let text = String::from_utf8_lossy(&buf);
+            // Valid UTF-8 is checked by the faster `from_utf8`; only bad bytes need `lossy`.
+            let text = match std::str::from_utf8(&buf) {
+                Ok(t) => Cow::Borrowed(t),
+                Err(_) => String::from_utf8_lossy(&buf),
+            };
             let dir = Path::new(input)
                 .parent()
                 .map(Path::to_path_buf)
@@ -309,6 +467,7 @@ impl<'o> Loader<'o> {
         // Location of the command line itself: file:line (the column is always 1).
         let origin = Location::line(loc.file.clone(), loc.line.unwrap_or(1));
         self.count_command(&origin)?;
+        self.ran.push(cmd.trim_end_matches('\r').to_string());
         let out = exec::run(
             cmd.trim_end_matches('\r'),
             &src.base_dir,
@@ -337,25 +496,27 @@ impl<'o> Loader<'o> {
 
     fn object(&mut self, src: &mut Source) -> Result<()> {
         let (mod_name, start) = src.word(&String::new, &|| "a modifier".into())?;
-        let loc = src.at(start);
+        let (line, col) = src.line_col(start);
+        let file = src.name.clone();
+        let loc = || Location::at(file.to_string(), line, col);
         if mod_name.contains('\t') {
             return Err(Error::parse(
-                loc,
+                loc(),
                 format!("illegal tab in modifier '{}'", mod_name.escape_debug()),
             ));
         }
         // Resolve the modifier first, like getobject(): None = void, Some(None) = inherit.
-        let modifier: Option<Option<usize>> = match mod_name.as_str() {
+        let modifier: Option<Option<usize>> = match &*mod_name {
             "void" => Some(None),
             "inherit" => None,
             name => match self.modifiers.get(name) {
                 Some(&i) => Some(Some(i)),
                 None => {
-                    return Err(Error::parse(loc, format!("undefined modifier '{name}'")));
+                    return Err(Error::parse(loc(), format!("undefined modifier '{name}'")));
                 }
             },
         };
-        let ctx = || format!("after modifier '{mod_name}' (object starting at {loc})");
+        let ctx = || format!("after modifier '{mod_name}' (object starting at {})", loc());
         let (type_name, tloc) = src.word(&ctx, &|| "a primitive type".into())?;
         let otype = if type_name == "alias" {
             None
@@ -383,15 +544,22 @@ impl<'o> Loader<'o> {
                 format!("illegal modifier name '{id}'"),
             ));
         }
-        let ctx = || format!("inside {type_name} '{id}' (started at {loc})");
+        let ctx = || format!("inside {type_name} '{id}' (started at {})", loc());
 
         let Some(otype) = otype else {
             let msg = ctx();
-            return self.alias(src, loc, mod_name, modifier, id, &move || msg.clone());
+            return self.alias(
+                src,
+                loc(),
+                mod_name.into_owned(),
+                modifier,
+                id.into_owned(),
+                &move || msg.clone(),
+            );
         };
         let Some(modifier) = modifier else {
             return Err(Error::parse(
-                loc,
+                loc(),
                 format!("{type_name} '{id}': 'inherit' can only be the modifier of an alias"),
             ));
         };
@@ -413,7 +581,8 @@ impl<'o> Loader<'o> {
         for i in 0..ns {
             strings.push(
                 src.word(&ctx, &|| format!("string argument {} of {ns}", i + 1))?
-                    .0,
+                    .0
+                    .into_owned(),
             );
         }
         let (ni, niloc) = src.word(&ctx, &|| "the number of integer arguments (0)".into())?;
@@ -437,7 +606,8 @@ impl<'o> Loader<'o> {
                 ));
             }
         };
-        let mut reals = Vec::new();
+        let mut reals = std::mem::take(&mut self.reals);
+        reals.clear();
         for i in 0..nr {
             let what = || format!("real argument {} of {nr}", i + 1);
             let (w, wloc) = src.word(&ctx, &what)?;
@@ -466,19 +636,36 @@ impl<'o> Loader<'o> {
                 otype.real_count().mismatch(otype, &id, "real", nr),
             ));
         }
-        let mut kind = Primitive::from_args(otype, strings, reals).ok_or_else(|| {
-            Error::parse(loc.clone(), format!("{type_name} '{id}': bad arguments"))
-        })?;
+        if let Some(table) = &mut self.table {
+            if is_plain_surface(otype) {
+                let number = match src.file_number.get() {
+                    Some(k) => k,
+                    None => {
+                        let k = table.file_number(&src.name)?;
+                        src.file_number.set(Some(k));
+                        k
+                    }
+                };
+                let index = self.objects.len() + table.len();
+                table.push(otype, modifier, index, &reals, &id, number, line, col)?;
+                self.reals = reals;
+                return Ok(());
+            }
+        }
+        let kind = Primitive::from_args(otype, strings, reals.clone())
+            .ok_or_else(|| Error::parse(loc(), format!("{type_name} '{id}': bad arguments")))?;
+        self.reals = reals;
+        let mut kind = kind;
         if let Primitive::SpecFile { file, data } = &mut kind {
-            *data = read_specfile(file, &src.base_dir)?;
+            *data = read_specfile(file, &src.base_dir, &mut self.files)?;
         }
         self.push(Object {
             modifier,
-            modifier_name: mod_name,
-            id,
+            modifier_name: mod_name.into_owned(),
+            id: id.into_owned(),
             kind,
             alias: None,
-            loc,
+            loc: loc(),
         });
         Ok(())
     }
@@ -493,7 +680,7 @@ impl<'o> Loader<'o> {
         ctx: &dyn Fn() -> String,
     ) -> Result<()> {
         let (old, oloc) = src.word(ctx, &|| "the id of the aliased modifier".into())?;
-        let Some(&target) = self.modifiers.get(&old) else {
+        let Some(&target) = self.modifiers.get(&*old) else {
             return Err(Error::parse(
                 src.at(oloc),
                 format!("alias '{id}' refers to undefined modifier '{old}'"),
@@ -516,7 +703,7 @@ impl<'o> Loader<'o> {
             kind: original.kind.clone(),
             alias: Some(Alias {
                 target,
-                target_id: old,
+                target_id: old.into_owned(),
             }),
             loc,
         };
@@ -526,6 +713,12 @@ impl<'o> Loader<'o> {
 
     fn push(&mut self, obj: Object) {
         let index = self.objects.len();
+        if let Some(table) = &self.table {
+            // Beyond u32::MAX objects (hundreds of GB of text) the position saturates;
+            // the table refuses its own surfaces long before.
+            self.rest_index
+                .push(u32::try_from(index + table.len()).unwrap_or(u32::MAX));
+        }
         if obj.kind.otype().is_modifier() {
             // insertobject(): an identical redefinition keeps the earlier index.
             let same = self
@@ -543,7 +736,7 @@ impl<'o> Loader<'o> {
 
 /// Read the data file of a `specfile`: looked up in the scene file's folder, then in the
 /// `RAYPATH` folders (Radiance's `getpath` search). `Ok(None)` if it is nowhere.
-fn read_specfile(file: &str, base_dir: &Path) -> Result<Option<SpecData>> {
+fn read_specfile(file: &str, base_dir: &Path, read: &mut Vec<PathBuf>) -> Result<Option<SpecData>> {
     let mut candidates = vec![base_dir.join(file)];
     if Path::new(file).is_relative() {
         if let Some(raypath) = std::env::var_os("RAYPATH") {
@@ -554,6 +747,7 @@ fn read_specfile(file: &str, base_dir: &Path) -> Result<Option<SpecData>> {
         if path.is_file() {
             let shown = path.display().to_string();
             let bytes = std::fs::read(&path).map_err(|e| Error::io(shown.clone(), e))?;
+            read.push(path.clone());
             return SpecData::parse(&String::from_utf8_lossy(&bytes), &shown).map(Some);
         }
     }
@@ -585,18 +779,15 @@ mod tests {
 
     #[test]
     fn words_follow_fgetword() {
-        assert_eq!(word("abc def").unwrap(), (" def", "abc".to_string()));
-        assert_eq!(
-            word("'a b'c\"d e\" x").unwrap(),
-            (" x", "a bcd e".to_string())
-        );
+        assert_eq!(word("abc def").unwrap(), (" def", "abc".into()));
+        assert_eq!(word("'a b'c\"d e\" x").unwrap(), (" x", "a bcd e".into()));
         assert_eq!(
             word("'Atan2(Dy,Dx)/PI+1' 0").unwrap().1,
             "Atan2(Dy,Dx)/PI+1"
         );
-        assert_eq!(word("''\n").unwrap(), ("\n", String::new()));
+        assert_eq!(word("''\n").unwrap(), ("\n", "".into()));
         // Unterminated quote: the word stops before it; the caller reports it.
-        assert_eq!(word("ab'cd").unwrap(), ("'cd", "ab".to_string()));
+        assert_eq!(word("ab'cd").unwrap(), ("'cd", "ab".into()));
     }
 
     #[test]
@@ -616,6 +807,38 @@ mod tests {
         ] {
             assert_eq!(parse_real(w), None, "{w}");
         }
+    }
+
+    #[test]
+    fn plain_decimals_are_the_doubles_from_str_gives() {
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_pcg::Pcg64::seed_from_u64(18);
+        for _ in 0..200_000 {
+            let digits = rng.random_range(1..=16);
+            let mut w: String = (0..digits)
+                .map(|_| char::from(b'0' + rng.random_range(0..10u8)))
+                .collect();
+            if rng.random_bool(0.8) {
+                w.insert(rng.random_range(0..=w.len()), '.');
+            }
+            match rng.random_range(0..3) {
+                0 => w.insert(0, '-'),
+                1 => w.insert(0, '+'),
+                _ => {}
+            }
+            let want = w.parse::<f64>().ok().filter(|v| v.is_finite());
+            let got = parse_real(&w);
+            assert_eq!(
+                got.map(f64::to_bits),
+                want.map(f64::to_bits),
+                "{w}: {got:?} vs {want:?}"
+            );
+        }
+        assert_eq!(
+            parse_real("-0").map(f64::to_bits),
+            Some((-0.0f64).to_bits())
+        );
+        assert_eq!(plain_decimal(b"9007199254740993"), None);
     }
 
     #[test]
