@@ -858,7 +858,8 @@ pub fn main(run: &Run, flux: &Flux, progress: &dyn Progress) -> Result<()> {
     let setup = Setup::load(flux, &run.scene, &run.load)?;
     drop(stage);
     let stage = Stage::uncounted(progress, "compiling the scene");
-    let tracer = Tracer::build(&run.config, &setup.scene, Some(&run.scene), &run.command)?;
+    let compact = crate::scene::CompactScene::from_scene(&setup.scene)?;
+    let tracer = Tracer::build(&run.config, &compact, Some(&run.scene), &run.command)?;
     drop(stage);
     let receivers = &setup.receivers;
     let mut job = tracer.job();

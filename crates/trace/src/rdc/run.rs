@@ -29,7 +29,7 @@ use crate::geometry::vec3::normalized;
 use crate::material::ShadingOptions;
 use crate::progress::{Progress, QUIET, Stage};
 use crate::radiometry::{Channels, RGB_PHOTOPIC, luminance_rounded};
-use crate::scene::{LoadOptions, Scene};
+use crate::scene::{CompactScene, LoadOptions, Scene};
 use crate::sky::SkyPatches;
 use crate::trace::Renderable;
 use crate::trace::reweight::{RowWriter, Signature};
@@ -237,19 +237,20 @@ impl Tracer {
     /// Compile `scene` for `config` (validated first). Errors (unsupported primitives, bad
     /// settings, a point-in-time run without a sky) come with file:line before any input.
     pub fn new(config: &Config, scene: &Scene) -> Result<Tracer> {
-        Tracer::build(config, scene, None, &[])
+        Tracer::build(config, &CompactScene::from_scene(scene)?, None, &[])
     }
 
     /// As [`Tracer::new`]; `names` (the scene's inputs) go into the no-sky error and
     /// `command` into the `--reweight` file's header.
     pub(crate) fn build(
         config: &Config,
-        scene: &Scene,
+        scene: &CompactScene,
         names: Option<&[String]>,
         command: &[String],
     ) -> Result<Tracer> {
         config.validate(false)?;
-        scene.check_supported(intake::SUPPORTED)?;
+        // The table's plain surfaces are all of supported types.
+        scene.rest.check_supported(intake::SUPPORTED)?;
         let sampling = config.sampling;
         let channels = config.channels;
         let t_start = std::time::Instant::now();
@@ -261,7 +262,7 @@ impl Tracer {
             uplift: config.uplift,
             ..ShadingOptions::rcontrib()
         };
-        let renderable = Renderable::compile(scene, &channels, &shading)?;
+        let renderable = Renderable::compile_compact(scene, &channels, &shading)?;
         let compile_time = t_start.elapsed();
         let nsurfaces = renderable.surface_count();
         let nprims = renderable.bvh().primitive_count();
@@ -278,7 +279,7 @@ impl Tracer {
             Target::Flux(_) => (None, None),
         };
         let tracking = match &config.reweight {
-            Some(r) => Some(renderable.tracking(scene, r.materials.as_deref())?),
+            Some(r) => Some(renderable.tracking(r.materials.as_deref())?),
             None => None,
         };
         let mut estimator = Traced::new(renderable, &sampling, sampling.ad);
@@ -541,7 +542,7 @@ pub fn main(run: &Run, progress: &dyn Progress) -> Result<()> {
     // Scene first: its errors come before anything is read or written.
     let t_start = std::time::Instant::now();
     let stage = Stage::uncounted(progress, "loading the scene");
-    let scene = crate::scene::load(&run.scene, &run.load)?;
+    let scene = crate::scene::load_compact(&run.scene, &run.load)?;
     drop(stage);
     let load_time = t_start.elapsed();
     let stage = Stage::uncounted(progress, "compiling the scene");
