@@ -16,6 +16,7 @@
 //! | [`obj`] | Wavefront OBJ for `mesh` primitives naming a `.obj` file (our extension) |
 //! | [`octree`] | octrees (`oconv`; frozen ones hold their scene) for `instance` primitives |
 //! | `binary` | Radiance's portable binary encoding shared by meshes and octrees |
+//! | [`compiled`] | compiled scene files (`rdc --compile`): container, source records, scenes in binary |
 //! | `bbox` | [`Scene::bounding_box`] as `getbbox` computes it |
 //! | [`CompactScene`] | plain surfaces column-wise ([`SurfaceTable`]), the rest as a [`Scene`]: what the tracer loads |
 //! | `wrong_kind` | inputs that are not scene text (octrees, pictures, matrices, weather), named as such |
@@ -33,6 +34,7 @@
 
 mod bbox;
 mod binary;
+pub mod compiled;
 mod exec;
 pub mod mesh;
 pub mod obj;

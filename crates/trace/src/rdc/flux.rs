@@ -859,7 +859,12 @@ pub fn main(run: &Run, flux: &Flux, progress: &dyn Progress) -> Result<()> {
     drop(stage);
     let stage = Stage::uncounted(progress, "compiling the scene");
     let compact = crate::scene::CompactScene::from_scene(&setup.scene)?;
-    let tracer = Tracer::build(&run.config, &compact, Some(&run.scene), &run.command)?;
+    let tracer = Tracer::build(
+        &run.config,
+        super::run::SceneInput::Compact(&compact),
+        Some(&run.scene),
+        &run.command,
+    )?;
     drop(stage);
     let receivers = &setup.receivers;
     let mut job = tracer.job();
