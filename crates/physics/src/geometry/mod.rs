@@ -32,4 +32,4 @@ pub use klems::{KlemsBasis, KlemsFrame, KlemsKind};
 pub use ray::{Hit, Ray, offset_distance};
 pub use rdaylight_base::vec3::{self, Vec3};
 pub use shapes::{Object, Shape, ShapeError, ShapeRef};
-pub use triangulate::{PolygonError, polygon_area, triangulate};
+pub use triangulate::{PolygonError, polygon_area, triangulate, triangulate_into};

@@ -265,7 +265,7 @@ impl ShapeRef<'_> {
             ShapeRef::Polygon(flat) => {
                 scratch.clear();
                 scratch.extend(flat_vertices(flat));
-                super::triangulate::triangulate(scratch)
+                super::triangulate::check(scratch)
                     .map(|_| ())
                     .map_err(ShapeError::Polygon)
             }
