@@ -61,15 +61,34 @@ fn is_quote(c: char) -> bool {
     c == '\'' || c == '"'
 }
 
-/// C `isspace` for one byte of UTF-8 text (white space is ASCII, and no byte of a
-/// multi-byte character is).
+/// What each byte is for the word scanners: white space (C `isspace`), a quote, or part
+/// of a word. White space and quotes are ASCII, and no byte of a multi-byte UTF-8
+/// character is either, so scanning bytes finds the same words as scanning characters.
+const BYTE_CLASS: [u8; 256] = {
+    let mut t = [0u8; 256];
+    let mut k = 0;
+    let space = [b' ', b'\t', b'\n', 0x0B, 0x0C, b'\r'];
+    while k < space.len() {
+        t[space[k] as usize] = SPACE;
+        k += 1;
+    }
+    t[b'\'' as usize] = QUOTE;
+    t[b'"' as usize] = QUOTE;
+    t
+};
+const SPACE: u8 = 1;
+const QUOTE: u8 = 2;
+
+/// C `isspace` for one byte of UTF-8 text.
+#[inline(always)]
 fn is_space_byte(b: u8) -> bool {
-    matches!(b, b' ' | b'\t' | b'\n' | 0x0B | 0x0C | b'\r')
+    BYTE_CLASS[b as usize] == SPACE
 }
 
 /// A byte of an unquoted word.
+#[inline(always)]
 fn is_plain_byte(b: u8) -> bool {
-    !is_space_byte(b) && b != b'\'' && b != b'"'
+    BYTE_CLASS[b as usize] == 0
 }
 
 /// nom's `take_while` over bytes, with the predicate inlined: nom calls it through a
@@ -184,6 +203,15 @@ const POW10: [f64; 23] = [
 /// general machinery (issue 18: converting 9M coordinates was a fifth of loading a
 /// 1M-polygon scene). `None` for anything else (the caller converts it the general way).
 fn plain_decimal(b: &[u8]) -> Option<f64> {
+    match decimal_prefix(b) {
+        Some((v, len)) if len == b.len() => Some(v),
+        _ => None,
+    }
+}
+
+/// The plain decimal ([`plain_decimal`]) that `b` starts with and its length in bytes.
+#[inline(always)]
+fn decimal_prefix(b: &[u8]) -> Option<(f64, usize)> {
     let (neg, mut i) = match b.first()? {
         b'-' => (true, 1),
         b'+' => (false, 1),
@@ -191,29 +219,31 @@ fn plain_decimal(b: &[u8]) -> Option<f64> {
     };
     // Wrapping arithmetic: more than 15 digits are refused below, before `m` is used.
     let mut m: u64 = 0;
-    let int_start = i;
-    while let Some(&c @ b'0'..=b'9') = b.get(i) {
-        m = m.wrapping_mul(10).wrapping_add(u64::from(c - b'0'));
-        i += 1;
-    }
-    let mut n = i - int_start;
+    let mut digits = |i: &mut usize| {
+        let start = *i;
+        while let Some(&c) = b.get(*i) {
+            let d = c.wrapping_sub(b'0');
+            if d > 9 {
+                break;
+            }
+            m = m.wrapping_mul(10).wrapping_add(u64::from(d));
+            *i += 1;
+        }
+        *i - start
+    };
+    let mut n = digits(&mut i);
     let mut k = 0;
     if b.get(i) == Some(&b'.') {
         i += 1;
-        let frac_start = i;
-        while let Some(&c @ b'0'..=b'9') = b.get(i) {
-            m = m.wrapping_mul(10).wrapping_add(u64::from(c - b'0'));
-            i += 1;
-        }
-        k = i - frac_start;
+        k = digits(&mut i);
         n += k;
     }
     // Up to 15 digits: `m` < 10^15 < 2^53, and `k` <= 15 < 23.
-    if i != b.len() || n == 0 || n > 15 {
+    if n == 0 || n > 15 {
         return None;
     }
     let v = m as f64 / POW10[k];
-    Some(if neg { -v } else { v })
+    Some((if neg { -v } else { v }, i))
 }
 
 /// One piece of scene text being read.
@@ -224,10 +254,11 @@ struct Source<'t> {
     /// Folder for `!` commands and data files.
     base_dir: PathBuf,
     pos: usize,
-    /// The last offset a line number was asked for and its line: objects are read in
-    /// order, so each lookup counts only the newlines since the previous one (a table of
-    /// line starts cost 8 bytes per line and a binary search per object).
-    cursor: Cell<(usize, usize)>,
+    /// Lines counted so far: up to byte `.0`, which is on line `.1`, whose first byte is
+    /// `.2`. White space is counted as it is skipped, words without quotes have no line
+    /// breaks, and anything else is counted when a location is asked for: no second pass
+    /// over the text, and no table of line starts (8 bytes per line).
+    cursor: Cell<(usize, usize, usize)>,
     /// The file's number in a [`SurfaceTable`], once it has one.
     file_number: Cell<Option<u32>>,
 }
@@ -239,7 +270,7 @@ impl<'t> Source<'t> {
             text,
             base_dir,
             pos: 0,
-            cursor: Cell::new((0, 1)),
+            cursor: Cell::new((0, 1, 0)),
             file_number: Cell::new(None),
         }
     }
@@ -256,20 +287,28 @@ impl<'t> Source<'t> {
     fn line_col(&self, offset: usize) -> (usize, usize) {
         let bytes = self.text.as_bytes();
         let offset = offset.min(bytes.len());
-        let (mut from, mut line) = self.cursor.get();
-        if offset < from {
-            (from, line) = (0, 1);
-        }
-        // A sum of 0/1 bytes: vectorised, unlike a counting filter.
-        line += bytes[from..offset]
-            .iter()
-            .map(|&b| usize::from(b == b'\n'))
-            .sum::<usize>();
-        self.cursor.set((offset, line));
-        let start = bytes[..offset]
-            .iter()
-            .rposition(|&b| b == b'\n')
-            .map_or(0, |i| i + 1);
+        // Lines from `from` (on line `line`, starting at `start`) up to `offset`.
+        let count = |from: usize, mut line: usize, mut start: usize| {
+            for (i, &b) in bytes[from..offset].iter().enumerate() {
+                if b == b'\n' {
+                    line += 1;
+                    start = from + i + 1;
+                }
+            }
+            (line, start)
+        };
+        let (from, line, start) = self.cursor.get();
+        let (line, start) = if offset >= from {
+            let (l, s) = count(from, line, start);
+            self.cursor.set((offset, l, s));
+            (l, s)
+        } else if offset >= start {
+            // On the counted line (an object's first word, just read).
+            (line, start)
+        } else {
+            // An earlier line (errors only): counted from the beginning.
+            count(0, 1, 0)
+        };
         let col = self
             .text
             .get(start..offset)
@@ -279,9 +318,91 @@ impl<'t> Source<'t> {
 
     fn skip_space(&mut self) {
         let bytes = self.rest().as_bytes();
-        let (rest, _) = bytes_while(bytes, is_space_byte).unwrap_or((bytes, &[]));
+        let (_, skipped) = bytes_while(bytes, is_space_byte).unwrap_or((bytes, &[]));
+        let n = skipped.len();
+        let (from, mut line, mut start) = self.cursor.get();
+        if from == self.pos {
+            for (i, &b) in skipped.iter().enumerate() {
+                if b == b'\n' {
+                    line += 1;
+                    start = from + i + 1;
+                }
+            }
+            self.cursor.set((from + n, line, start));
+        }
         // White space is ASCII, so what follows starts a character.
-        self.pos = self.text.len() - rest.len();
+        self.pos += n;
+    }
+
+    /// The next word when it has no quotes (nearly every word) and where it starts, found
+    /// in one pass over the bytes with the line count; `None`, with nothing consumed, for
+    /// anything else (quotes, the end of the text), which [`Source::word`] then reads.
+    #[inline(always)]
+    fn plain_word(&mut self) -> Option<(&'t str, usize)> {
+        let text: &'t str = self.text;
+        let bytes = text.as_bytes();
+        let i = self.pos;
+        let (rest, space) = bytes_while(bytes.get(i..)?, is_space_byte).ok()?;
+        let (after, w) = bytes_while1(rest, is_plain_byte).ok()?;
+        if after.first().is_some_and(|&b| !is_space_byte(b)) {
+            return None; // a quote continues the word
+        }
+        let w0 = i + space.len();
+        let end = w0 + w.len();
+        // Both ends are next to ASCII bytes (or the text's ends): character boundaries.
+        let word = text.get(w0..end)?;
+        let (from, mut line, mut start) = self.cursor.get();
+        if from == i {
+            for (k, &b) in space.iter().enumerate() {
+                if b == b'\n' {
+                    line += 1;
+                    start = i + k + 1;
+                }
+            }
+            self.cursor.set((end, line, start));
+        }
+        self.pos = end;
+        Some((word, w0))
+    }
+
+    /// The next `n` words as plain decimals ([`plain_decimal`]) into `out`, in one pass
+    /// over the bytes: the coordinates of a million polygons. `false`, with nothing
+    /// consumed and `out` as it was, at the first word that needs [`Source::word`] and
+    /// [`parse_real`] (quotes, an exponent, no more text, not a number), which then also
+    /// give the error, so messages and locations are those of the general reader.
+    fn plain_reals(&mut self, n: usize, out: &mut Vec<f64>) -> bool {
+        let bytes = self.text.as_bytes();
+        let (from, mut line, mut start) = self.cursor.get();
+        let tracked = from == self.pos;
+        let kept = out.len();
+        let mut i = self.pos;
+        for _ in 0..n {
+            let (rest, space) =
+                bytes_while(&bytes[i..], is_space_byte).unwrap_or((&bytes[i..], &[]));
+            if tracked {
+                for (k, &b) in space.iter().enumerate() {
+                    if b == b'\n' {
+                        line += 1;
+                        start = i + k + 1;
+                    }
+                }
+            }
+            i += space.len();
+            // A decimal that is the whole word: white space or the end right after it.
+            let value = decimal_prefix(rest)
+                .filter(|&(_, len)| rest.get(len).is_none_or(|&b| is_space_byte(b)));
+            let Some((v, len)) = value else {
+                out.truncate(kept);
+                return false;
+            };
+            out.push(v);
+            i += len;
+        }
+        self.pos = i;
+        if tracked {
+            self.cursor.set((i, line, start));
+        }
+        true
     }
 
     /// The location of byte `offset`, computed only when it is needed (an error, or once
@@ -298,6 +419,9 @@ impl<'t> Source<'t> {
         context: &dyn Fn() -> String,
         what: &dyn Fn() -> String,
     ) -> Result<(Cow<'t, str>, usize)> {
+        if let Some((w, start)) = self.plain_word() {
+            return Ok((Cow::Borrowed(w), start));
+        }
         self.skip_space();
         let start = self.pos;
         if self.rest().is_empty() {
@@ -309,6 +433,11 @@ impl<'t> Source<'t> {
         match word(self.rest()) {
             Ok((rest, w)) if !rest.starts_with(is_quote) => {
                 self.advance(rest);
+                // A word without quotes holds no line break: counted up to its end.
+                let (from, line, line_start) = self.cursor.get();
+                if from == start && matches!(w, Cow::Borrowed(_)) {
+                    self.cursor.set((self.pos, line, line_start));
+                }
                 Ok((w, start))
             }
             _ => Err(Error::parse(
@@ -326,6 +455,9 @@ pub(crate) struct Loader<'o> {
     directives: Vec<super::Directive>,
     /// Most recent modifier with each id (`modobject.c` `modtab`).
     modifiers: HashMap<String, usize>,
+    /// The last modifier looked up (a million surfaces name a handful of modifiers, mostly
+    /// the same one in a row: one comparison instead of a hash).
+    last_modifier: Option<(String, usize)>,
     /// Inline commands run so far, and the most allowed ([`MAX_COMMANDS`]).
     commands: usize,
     max_commands: usize,
@@ -348,6 +480,7 @@ impl<'o> Loader<'o> {
             objects: Vec::new(),
             directives: Vec::new(),
             modifiers: HashMap::new(),
+            last_modifier: None,
             commands: 0,
             max_commands: MAX_COMMANDS,
             table: None,
@@ -509,11 +642,17 @@ impl<'o> Loader<'o> {
         let modifier: Option<Option<usize>> = match &*mod_name {
             "void" => Some(None),
             "inherit" => None,
-            name => match self.modifiers.get(name) {
-                Some(&i) => Some(Some(i)),
-                None => {
-                    return Err(Error::parse(loc(), format!("undefined modifier '{name}'")));
-                }
+            name => match &self.last_modifier {
+                Some((last, i)) if last == name => Some(Some(*i)),
+                _ => match self.modifiers.get(name) {
+                    Some(&i) => {
+                        self.last_modifier = Some((name.to_string(), i));
+                        Some(Some(i))
+                    }
+                    None => {
+                        return Err(Error::parse(loc(), format!("undefined modifier '{name}'")));
+                    }
+                },
             },
         };
         let ctx = || format!("after modifier '{mod_name}' (object starting at {})", loc());
@@ -608,7 +747,8 @@ impl<'o> Loader<'o> {
         };
         let mut reals = std::mem::take(&mut self.reals);
         reals.clear();
-        for i in 0..nr {
+        let fast = src.plain_reals(nr, &mut reals);
+        for i in (0..nr).filter(|_| !fast) {
             let what = || format!("real argument {} of {nr}", i + 1);
             let (w, wloc) = src.word(&ctx, &what)?;
             match parse_real(&w) {
@@ -728,6 +868,7 @@ impl<'o> Loader<'o> {
                 .is_some_and(|prev| prev.kind == obj.kind && prev.modifier == obj.modifier);
             if !same {
                 self.modifiers.insert(obj.id.clone(), index);
+                self.last_modifier = None;
             }
         }
         self.objects.push(obj);
@@ -839,6 +980,31 @@ mod tests {
             Some((-0.0f64).to_bits())
         );
         assert_eq!(plain_decimal(b"9007199254740993"), None);
+    }
+
+    #[test]
+    fn reals_in_any_form_read_alike_and_bad_ones_are_placed() {
+        let parse =
+            |text: &str| crate::scene::parse_str(text, "r.rad", Path::new(""), &Default::default());
+        // Plain decimals, an exponent, a quoted number, signs: the one-pass reader hands
+        // over to the general one at the first word it does not take.
+        let s = parse("void plastic m 0 0 5 .5 1e-1 '0.3' +2 -0\n").unwrap();
+        let (_, r) = s.objects[0].kind.to_args();
+        assert_eq!(r, [0.5, 0.1, 0.3, 2.0, -0.0]);
+        let s =
+            parse("void polygon p 0 0 9\n 0 0 0\n 1 0 0\n 1 1 0\nvoid plastic q 0 0 5 1 1 1 0 0\n")
+                .unwrap();
+        assert_eq!(s.objects[1].loc.line, Some(5));
+        let e = parse("void polygon p 0 0 9\n 0 0 0\n 1 x 0\n 1 1 0\n").unwrap_err();
+        assert!(
+            e.to_string()
+                .starts_with("r.rad:3:4: polygon 'p': real argument 5 of 9"),
+            "{e}"
+        );
+        let e = parse("void polygon p 0 0 9\n 0 0 0\n 1 0")
+            .unwrap_err()
+            .to_string();
+        assert!(e.starts_with("r.rad:3:5: unexpected end of file"), "{e}");
     }
 
     #[test]
