@@ -201,6 +201,11 @@ impl<'a> Decoder<'a> {
         self.index(bound, what)?
             .ok_or_else(|| self.corrupted(format!("{what} missing")))
     }
+    /// The bytes not read yet (to decode a run of fixed records in place; then
+    /// [`Decoder::bytes`] the length used).
+    pub fn peek(&self) -> &'a [u8] {
+        self.rest
+    }
     /// Bytes not read yet.
     pub fn remaining(&self) -> usize {
         self.rest.len()

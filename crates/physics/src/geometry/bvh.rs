@@ -694,7 +694,10 @@ mod binary {
         e.f64(v.z);
     }
 
+    /// Three doubles from the first 24 bytes of `b` (24 or more).
+    #[inline(always)]
     fn get_v3(b: &[u8]) -> Vec3 {
+        let b: &[u8; 24] = b[..24].try_into().expect("24 bytes");
         let f = |k: usize| {
             f64::from_le_bytes([
                 b[k],
@@ -934,7 +937,29 @@ mod binary {
             };
             let np = d.count(5, "primitive count")?;
             let mut prims = Vec::with_capacity(np);
-            for _ in 0..np {
+            while prims.len() < np {
+                // Runs of triangles (all of a polygon scene's primitives) straight from
+                // the bytes: 77-byte records, one bounds check each.
+                let rest = d.peek();
+                let mut used = 0;
+                while prims.len() < np {
+                    let Some(r) = rest.get(used..used + 77).filter(|r| r[0] == TRI) else {
+                        break;
+                    };
+                    prims.push(Prim {
+                        geom: PrimGeom::Tri(TriGeom {
+                            v0: get_v3(&r[5..29]),
+                            e1: get_v3(&r[29..53]),
+                            e2: get_v3(&r[53..77]),
+                        }),
+                        obj: u32::from_le_bytes([r[1], r[2], r[3], r[4]]),
+                    });
+                    used += 77;
+                }
+                d.bytes(used, "triangles")?;
+                if prims.len() == np {
+                    break;
+                }
                 let tag = d.u8("primitive type")?;
                 let obj = d.u32("primitive object")?;
                 let geom = match tag {
@@ -976,12 +1001,14 @@ mod binary {
                 prims.push(Prim { geom, obj });
             }
             let no = d.count(28, "object count")?;
-            let mut objects = Vec::with_capacity(no);
-            for _ in 0..no {
-                let id = d.u32("object id")?;
-                let normal = read_v3(d, "object normal")?;
-                objects.push(ObjInfo { id, normal });
-            }
+            let objects: Vec<ObjInfo> = d
+                .bytes(28 * no, "objects")?
+                .chunks_exact(28)
+                .map(|r| ObjInfo {
+                    id: u32::from_le_bytes([r[0], r[1], r[2], r[3]]),
+                    normal: get_v3(&r[4..]),
+                })
+                .collect();
             if prims
                 .iter()
                 .any(|p| !matches!(p.geom, PrimGeom::Placed(_)) && p.obj as usize >= no)
