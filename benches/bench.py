@@ -10,8 +10,10 @@ Rows (each needs pyradiance's Radiance 6 binaries, `make radiance`):
   sky MF 1 / MF 4      rspecsky -m N -of          vs gendaymtx -m N -of (London IWEC year)
   glare 1000 x 1000    rglare PIC                 vs evalglare PIC (an rpict fisheye of the
                        furnished office, sun in view; rendered once into the work folder)
-  scene 1M triangles   rdc -ab 0 (load + BVH, one sensor)
+  scene 1M triangles   rdc -ab 0 scene.rad (parse + BVH, one sensor)
                                                   vs oconv + rtrace -ab 0 (one ray)
+  compiled scene       rdc -ab 0 scene.rdb (rdc --compile's file, made once)
+                                                  vs rtrace -ab 0 on oconv's octree (made once)
   product MF 4         rmtx dc sky                vs dctimestep dc sky (165 x 2306 x 8760)
   equal noise         rdc at the -ad giving rcontrib -n 2 -ad 10000's per-sensor noise, both fixture
                        rooms (benches/rdc_vs_rcontrib.py, minutes per room)
@@ -19,7 +21,8 @@ Rows (each needs pyradiance's Radiance 6 binaries, `make radiance`):
 The main job's peak memory step by step is benches/memory.sh's. BENCH_QUICK=1 skips the
 equal-noise and scaling rows.
 
-Usage: python3 benches/bench.py [RUNS]   (BENCH_DIR keeps inputs between runs)
+Usage: python3 benches/bench.py [RUNS [ROW...]]   (BENCH_DIR keeps inputs between runs;
+ROW: sky, glare, scene, product, to run only those rows and make only their inputs)
 """
 import os
 import statistics
@@ -74,20 +77,20 @@ def pair(name, ours, theirs, runs, work):
     return [name] + [med(a, k) for k in range(3)] + [med(b, k) for k in range(3)]
 
 
-def inputs(work):
-    """Inputs made once: the sky file, the fisheye, the 1M-triangle scene, the MF 4
-    coefficients and sky."""
+def inputs(work, rows):
+    """Inputs made once, for the rows asked for: the sky file, the fisheye, the
+    1M-triangle scene (and its octree and compiled scene), the MF 4 coefficients and sky."""
     wea = os.path.join(work, "site.wea")
-    if not os.path.exists(wea):
+    if not os.path.exists(wea) and ("sky" in rows or "product" in rows):
         sh(f"epw2wea {EPW} {wea}")
     pic = os.path.join(work, "fisheye.hdr")
-    if not os.path.exists(pic):
+    if not os.path.exists(pic) and "glare" in rows:
         sh(f"oconv {FIX}/scenes/furnished.rad {FIX}/skies/clear_gendaylit.rad {FIX}/skies/skyglow.rad",
            os.path.join(work, "glare.oct"))
         sh("rpict -vta -vp 3 1.5 1.2 -vd 0 -1 0 -vu 0 0 1 -vh 180 -vv 180 -x 1000 -y 1000 "
            f"-ab 1 -ad 128 -aa 0.2 -ar 16 -as 0 -ps 2 {work}/glare.oct", pic)
     tri = os.path.join(work, "tri1m.rad")
-    if not os.path.exists(tri):
+    if not os.path.exists(tri) and "scene" in rows:
         # 1,000,000 random triangles of ~5 cm in a 10 m box: one material, plain polygons
         # (what a scanned or converted room becomes), seeded.
         import random
@@ -104,8 +107,12 @@ def inputs(work):
                 f.write(f"m polygon t{i} 0 0 9 " + " ".join(f"{c:.5f}" for p in v for c in p) + "\n")
         with open(os.path.join(work, "one.pts"), "w") as f:
             f.write("5 5 5 0 0 1\n")
+    if "scene" in rows:
+        # Made once, like an octree: the compiled rows time their use, not their making.
+        sh(f"{REL}/rdc --compile {work}/tri1m.rdb {tri}")
+        sh(f"oconv {tri}", os.path.join(work, "tri1m.oct"))
     dc = os.path.join(work, "dc4.mtx")
-    if not os.path.exists(dc):
+    if not os.path.exists(dc) and "product" in rows:
         # The main job's settings (benches/memory.sh): dense enough rows that the product
         # is not a sparse one (at -ad 512 most patches of a row are zero).
         sh(f"{REL}/rdc -I -ab 5 -ad 10000 -lw 1e-5 -s 1 -m 4 -faf {ROOM}/room.rad < {ROOM}/sensors.pts", dc)
@@ -117,26 +124,34 @@ def main():
     runs = int(sys.argv[1]) if len(sys.argv) > 1 else 3
     if runs < 1 or runs > 50:
         sys.exit("bench.py: RUNS must be 1..50")
+    known = ["sky", "glare", "scene", "product"]
+    wanted = sys.argv[2:] or known
+    if any(r not in known for r in wanted):
+        sys.exit(f"bench.py: rows are {', '.join(known)}")
     sh("cargo build --release --quiet --bins", cwd=ROOT)
     work = os.environ.get("BENCH_DIR") or tempfile.mkdtemp(prefix="rdaylight-bench-")
     os.makedirs(work, exist_ok=True)
-    wea, pic, tri = inputs(work)
+    wea, pic, tri = inputs(work, wanted)
     one = os.path.join(work, "one.pts")
-    rows = [
-        pair("sky matrix MF 1", f"{REL}/rspecsky -m 1 -of {EPW} > /dev/null",
-             f"gendaymtx -m 1 -of {wea} > /dev/null", runs, work),
-        pair("sky matrix MF 4", f"{REL}/rspecsky -m 4 -of {EPW} > /dev/null",
-             f"gendaymtx -m 4 -of {wea} > /dev/null", runs, work),
-        pair("fisheye glare 1000 x 1000", f"{REL}/rglare {pic} > /dev/null 2>&1",
-             f"evalglare {pic} > /dev/null 2>&1", runs, work),
-        pair("1M-triangle scene: load + BVH + 1 ray",
-             f"{REL}/rdc -I -ab 0 {tri} < {one} > /dev/null",
-             f"oconv {tri} > {work}/tri.oct ;; echo 5 5 5 0 0 1 | rtrace -I -ab 0 -h {work}/tri.oct > /dev/null",
-             runs, work),
-        pair("matrix product MF 4 (165 x 2306 x 8760)",
-             f"{REL}/rmtx {work}/dc4.mtx {work}/sky4.smx > /dev/null",
-             f"dctimestep {work}/dc4.mtx {work}/sky4.smx > /dev/null", runs, work),
+    todo = [
+        ("sky", "sky matrix MF 1", f"{REL}/rspecsky -m 1 -of {EPW} > /dev/null",
+         f"gendaymtx -m 1 -of {wea} > /dev/null"),
+        ("sky", "sky matrix MF 4", f"{REL}/rspecsky -m 4 -of {EPW} > /dev/null",
+         f"gendaymtx -m 4 -of {wea} > /dev/null"),
+        ("glare", "fisheye glare 1000 x 1000", f"{REL}/rglare {pic} > /dev/null 2>&1",
+         f"evalglare {pic} > /dev/null 2>&1"),
+        ("scene", "1M-triangle scene: load + BVH + 1 ray",
+         f"{REL}/rdc -I -ab 0 {tri} < {one} > /dev/null",
+         f"oconv {tri} > {work}/tri.oct ;; echo 5 5 5 0 0 1 | rtrace -I -ab 0 -h {work}/tri.oct > /dev/null"),
+        ("scene", "1M-triangle scene from its compiled file + 1 ray (rdc scene.rdb vs rtrace scene.oct)",
+         f"{REL}/rdc -I -ab 0 {work}/tri1m.rdb < {one} > /dev/null",
+         f"echo 5 5 5 0 0 1 | rtrace -I -ab 0 -h {work}/tri1m.oct > /dev/null"),
+        ("product", "matrix product MF 4 (165 x 2306 x 8760)",
+         f"{REL}/rmtx {work}/dc4.mtx {work}/sky4.smx > /dev/null",
+         f"dctimestep {work}/dc4.mtx {work}/sky4.smx > /dev/null"),
     ]
+    rows = [pair(name, ours, theirs, runs, work)
+            for key, name, ours, theirs in todo if key in wanted]
     load = " ".join(f"{x:.1f}" for x in os.getloadavg())
     print(f"# make bench: medians of {runs} alternating runs; load average {load}; "
           f"{os.cpu_count()} cores")

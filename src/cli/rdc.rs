@@ -335,6 +335,23 @@ pub struct Options {
     #[arg(long = "flux")]
     pub flux: bool,
 
+    /// Compile the scene files into FILE and stop (no records are read or written), as
+    /// oconv makes an octree: later runs given FILE as their only scene skip reading the
+    /// scene and building its BVH, and trace the same surfaces (the same output). FILE
+    /// records the files it was made from (scene files, specfile data, meshes, octrees)
+    /// with their sizes and hashes; a run refuses it once one of them changed. Inline
+    /// !commands are compiled in, not re-run. No Radiance counterpart.
+    #[arg(long = "compile", value_name = "FILE")]
+    pub compile: Option<String>,
+
+    /// Keep compiled scenes in DIR (made if missing), one per set of scene files, named by
+    /// a hash of their names and bytes: a run whose scene files (and the files they read)
+    /// are unchanged loads the compiled scene instead of reading the scene files (the same
+    /// output); otherwise it compiles and keeps it. Scenes read from standard input or
+    /// !commands are not kept. Also RDAYLIGHT_SCENE_CACHE=DIR. No Radiance counterpart.
+    #[arg(long = "scene-cache", value_name = "DIR")]
+    pub scene_cache: Option<String>,
+
     /// With --flux and a sender file: rays per sender patch (rfluxmtx -c; default 10000).
     #[arg(short = 'c', value_name = "N")]
     pub samples: Option<usize>,
@@ -591,6 +608,16 @@ impl Options {
                 .map(|s| Shard::parse(s, "--shard"))
                 .transpose()?,
             manifest: self.manifest.clone(),
+            compile: self.compile.clone(),
+            scene_cache: self
+                .scene_cache
+                .clone()
+                .or_else(|| {
+                    std::env::var("RDAYLIGHT_SCENE_CACHE")
+                        .ok()
+                        .filter(|v| !v.is_empty())
+                })
+                .map(std::path::PathBuf::from),
         };
         run.validate()?;
         Ok(run)

@@ -52,6 +52,7 @@ mod rspecsky;
 mod ruplift;
 mod ruplift_images;
 mod scene;
+mod scene_compiled;
 mod scene_mesh;
 mod seed_medi;
 mod sensors;

@@ -6,7 +6,7 @@
 //! - [`error`]: one error type whose user-input errors carry file, line and column;
 //! - [`radiometry`]: channel layouts (RGB or N spectral bands) and Radiance's RGB constants;
 //! - [`colour`]: colour science (CIE tables, observers, band integrals, melanopic weights);
-//! - [`hash`]: the FNV-1a fingerprint of caches and checksums;
+//! - [`hash`]: fingerprints of caches and checksums (FNV-1a; a word-wide hash for large files);
 //! - [`io`]: atomic output (nothing half-written) and stream checks;
 //! - [`progress`]: how long work reports how far it got (the tools draw it);
 //! - [`stats`]: order statistics (median, percentiles);

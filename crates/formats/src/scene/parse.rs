@@ -19,14 +19,17 @@
 //! is an error (Radiance reads to end of file), words are not cut at 511 characters, reals
 //! that overflow to infinity are rejected.
 
+use std::borrow::Cow;
+use std::cell::Cell;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
+use std::rc::Rc;
 
 use nom::{
     IResult, Parser,
     branch::alt,
-    bytes::complete::{tag, take_till, take_while, take_while1},
-    character::complete::{char, digit0, digit1, one_of},
+    bytes::complete::{tag, take_till, take_while1},
+    character::complete::{char, digit1, one_of},
     combinator::{all_consuming, opt, recognize},
     multi::{fold_many1, many0},
     sequence::delimited,
@@ -35,6 +38,7 @@ use nom::{
 use super::otype::OType;
 use super::primitive::Primitive;
 use super::specdata::SpecData;
+use super::table::{SurfaceTable, is_plain_surface};
 use super::{Alias, LoadOptions, Object, Scene, exec};
 use crate::error::{Error, Location, Result};
 
@@ -57,9 +61,65 @@ fn is_quote(c: char) -> bool {
     c == '\'' || c == '"'
 }
 
+/// What each byte is for the word scanners: white space (C `isspace`), a quote, or part
+/// of a word. White space and quotes are ASCII, and no byte of a multi-byte UTF-8
+/// character is either, so scanning bytes finds the same words as scanning characters.
+const BYTE_CLASS: [u8; 256] = {
+    let mut t = [0u8; 256];
+    let mut k = 0;
+    let space = [b' ', b'\t', b'\n', 0x0B, 0x0C, b'\r'];
+    while k < space.len() {
+        t[space[k] as usize] = SPACE;
+        k += 1;
+    }
+    t[b'\'' as usize] = QUOTE;
+    t[b'"' as usize] = QUOTE;
+    t
+};
+const SPACE: u8 = 1;
+const QUOTE: u8 = 2;
+
+/// C `isspace` for one byte of UTF-8 text.
+#[inline(always)]
+fn is_space_byte(b: u8) -> bool {
+    BYTE_CLASS[b as usize] == SPACE
+}
+
+/// A byte of an unquoted word.
+#[inline(always)]
+fn is_plain_byte(b: u8) -> bool {
+    BYTE_CLASS[b as usize] == 0
+}
+
+/// nom's `take_while` over bytes, with the predicate inlined: nom calls it through a
+/// reference for every byte, and for the ~100 MB of a 1M-polygon scene those calls were a
+/// third of the reading time (issue 18). Never fails (an empty match is allowed).
+#[inline(always)]
+fn bytes_while(input: &[u8], f: impl Fn(u8) -> bool) -> IResult<&[u8], &[u8], ()> {
+    let n = input.iter().position(|&b| !f(b)).unwrap_or(input.len());
+    Ok((&input[n..], &input[..n]))
+}
+
+/// [`bytes_while`] that needs at least one byte (nom's `take_while1`).
+#[inline(always)]
+fn bytes_while1(input: &[u8], f: impl Fn(u8) -> bool) -> IResult<&[u8], &[u8], ()> {
+    match bytes_while(input, f)? {
+        (_, []) => Err(nom::Err::Error(())),
+        ok => Ok(ok),
+    }
+}
+
 /// One word as `fgetword` reads it: runs of unquoted non-space characters and quoted
-/// segments (quotes removed), up to the first unquoted white space.
-fn word(input: &str) -> IResult<&str, String> {
+/// segments (quotes removed), up to the first unquoted white space. A word without quotes
+/// (nearly all of them) is found byte by byte and borrowed from the input, not copied.
+fn word(input: &str) -> IResult<&str, Cow<'_, str>> {
+    if let Ok((rest, w)) = bytes_while1(input.as_bytes(), is_plain_byte) {
+        if !matches!(rest.first(), Some(b'\'' | b'"')) {
+            // The word ends before an ASCII byte (or the end): a character boundary.
+            let (w, rest) = input.split_at(w.len());
+            return Ok((rest, Cow::Borrowed(w)));
+        }
+    }
     fold_many1(
         alt((
             delimited(char('\''), take_till(|c| c == '\''), char('\'')),
@@ -72,6 +132,7 @@ fn word(input: &str) -> IResult<&str, String> {
             acc
         },
     )
+    .map(Cow::Owned)
     .parse(input)
 }
 
@@ -95,6 +156,10 @@ fn comment(input: &str) -> IResult<&str, &str> {
 
 /// `isint` from `src/common/words.c`: optional sign, digits.
 fn parse_count(w: &str) -> Option<i64> {
+    // One digit (nearly every count: `0`, `0`, `9`) without the general grammar.
+    if let [d @ b'0'..=b'9'] = w.as_bytes() {
+        return Some(i64::from(d - b'0'));
+    }
     all_consuming(recognize((opt(one_of("+-")), digit1::<&str, ()>)))
         .parse(w)
         .ok()
@@ -104,39 +169,109 @@ fn parse_count(w: &str) -> Option<i64> {
 /// A real argument: `isflt` syntax from `src/common/words.c` (optional sign, digits with an
 /// optional fraction or a fraction alone, optional exponent), converted like `atof`. Returns
 /// `None` for anything else, including values that overflow to infinity.
+///
+/// The check is on the characters only (digits, signs, `.`, `e`, `E`): over them Rust's own
+/// float grammar (`f64::from_str`: sign, digits with an optional fraction or a fraction
+/// alone, optional exponent, `e` in either case) is exactly `isflt`'s, so the conversion
+/// rejects the rest (`1.2.3`, `1e`, `--1`); the words `inf` and `nan` it would take are not
+/// made of those characters.
 pub(crate) fn parse_real(w: &str) -> Option<f64> {
-    let mantissa = alt((
-        recognize((digit1::<&str, ()>, opt((char('.'), digit0)))),
-        recognize((char('.'), digit1)),
-    ));
-    let exponent = opt((one_of("eE"), opt(one_of("+-")), digit1));
-    all_consuming(recognize((opt(one_of("+-")), mantissa, exponent)))
-        .parse(w)
-        .ok()?;
+    // Plain decimals (nearly every coordinate) are recognised and converted in one pass.
+    if let Some(v) = plain_decimal(w.as_bytes()) {
+        return Some(v);
+    }
+    let (rest, _) = bytes_while1(w.as_bytes(), |b: u8| {
+        b.is_ascii_digit() || matches!(b, b'+' | b'-' | b'.' | b'e' | b'E')
+    })
+    .ok()?;
+    if !rest.is_empty() {
+        return None;
+    }
     w.parse::<f64>().ok().filter(|v| v.is_finite())
+}
+
+/// Powers of ten exact in `f64`.
+const POW10: [f64; 23] = [
+    1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16,
+    1e17, 1e18, 1e19, 1e20, 1e21, 1e22,
+];
+
+/// The value of `[+-]digits[.digits]` without an exponent, when its digits make an integer
+/// `m < 2^53` and it has at most 22 decimals: then `m` and `10^k` are exact doubles and
+/// one division rounds correctly (Clinger 1990, "How to read floating point numbers
+/// accurately"), so the result is the very double `f64::from_str` gives, found without its
+/// general machinery (issue 18: converting 9M coordinates was a fifth of loading a
+/// 1M-polygon scene). `None` for anything else (the caller converts it the general way).
+fn plain_decimal(b: &[u8]) -> Option<f64> {
+    match decimal_prefix(b) {
+        Some((v, len)) if len == b.len() => Some(v),
+        _ => None,
+    }
+}
+
+/// The plain decimal ([`plain_decimal`]) that `b` starts with and its length in bytes.
+#[inline(always)]
+fn decimal_prefix(b: &[u8]) -> Option<(f64, usize)> {
+    let (neg, mut i) = match b.first()? {
+        b'-' => (true, 1),
+        b'+' => (false, 1),
+        _ => (false, 0),
+    };
+    // Wrapping arithmetic: more than 15 digits are refused below, before `m` is used.
+    let mut m: u64 = 0;
+    let mut digits = |i: &mut usize| {
+        let start = *i;
+        while let Some(&c) = b.get(*i) {
+            let d = c.wrapping_sub(b'0');
+            if d > 9 {
+                break;
+            }
+            m = m.wrapping_mul(10).wrapping_add(u64::from(d));
+            *i += 1;
+        }
+        *i - start
+    };
+    let mut n = digits(&mut i);
+    let mut k = 0;
+    if b.get(i) == Some(&b'.') {
+        i += 1;
+        k = digits(&mut i);
+        n += k;
+    }
+    // Up to 15 digits: `m` < 10^15 < 2^53, and `k` <= 15 < 23.
+    if n == 0 || n > 15 {
+        return None;
+    }
+    let v = m as f64 / POW10[k];
+    Some((if neg { -v } else { v }, i))
 }
 
 /// One piece of scene text being read.
 struct Source<'t> {
     /// File name as shown in locations (`room.rad`, `<stdin>`, `room.rad:12: !genbox ...`).
-    name: String,
+    name: Rc<str>,
     text: &'t str,
     /// Folder for `!` commands and data files.
     base_dir: PathBuf,
-    line_starts: Vec<usize>,
     pos: usize,
+    /// Lines counted so far: up to byte `.0`, which is on line `.1`, whose first byte is
+    /// `.2`. White space is counted as it is skipped, words without quotes have no line
+    /// breaks, and anything else is counted when a location is asked for: no second pass
+    /// over the text, and no table of line starts (8 bytes per line).
+    cursor: Cell<(usize, usize, usize)>,
+    /// The file's number in a [`SurfaceTable`], once it has one.
+    file_number: Cell<Option<u32>>,
 }
 
 impl<'t> Source<'t> {
     fn new(name: String, text: &'t str, base_dir: PathBuf) -> Self {
-        let mut line_starts = vec![0];
-        line_starts.extend(text.match_indices('\n').map(|(i, _)| i + 1));
         Source {
-            name,
+            name: name.into(),
             text,
             base_dir,
-            line_starts,
             pos: 0,
+            cursor: Cell::new((0, 1, 0)),
+            file_number: Cell::new(None),
         }
     }
 
@@ -148,9 +283,32 @@ impl<'t> Source<'t> {
         self.pos = self.text.len() - rest.len();
     }
 
+    /// 1-based line and column (in characters) of byte `offset`.
     fn line_col(&self, offset: usize) -> (usize, usize) {
-        let line = self.line_starts.partition_point(|&s| s <= offset).max(1);
-        let start = self.line_starts.get(line - 1).copied().unwrap_or(0);
+        let bytes = self.text.as_bytes();
+        let offset = offset.min(bytes.len());
+        // Lines from `from` (on line `line`, starting at `start`) up to `offset`.
+        let count = |from: usize, mut line: usize, mut start: usize| {
+            for (i, &b) in bytes[from..offset].iter().enumerate() {
+                if b == b'\n' {
+                    line += 1;
+                    start = from + i + 1;
+                }
+            }
+            (line, start)
+        };
+        let (from, line, start) = self.cursor.get();
+        let (line, start) = if offset >= from {
+            let (l, s) = count(from, line, start);
+            self.cursor.set((offset, l, s));
+            (l, s)
+        } else if offset >= start {
+            // On the counted line (an object's first word, just read).
+            (line, start)
+        } else {
+            // An earlier line (errors only): counted from the beginning.
+            count(0, 1, 0)
+        };
         let col = self
             .text
             .get(start..offset)
@@ -159,18 +317,99 @@ impl<'t> Source<'t> {
     }
 
     fn skip_space(&mut self) {
-        let (rest, _) = take_while::<_, &str, ()>(is_space)
-            .parse(self.rest())
-            .unwrap_or((self.rest(), ""));
-        self.advance(rest);
+        let bytes = self.rest().as_bytes();
+        let (_, skipped) = bytes_while(bytes, is_space_byte).unwrap_or((bytes, &[]));
+        let n = skipped.len();
+        let (from, mut line, mut start) = self.cursor.get();
+        if from == self.pos {
+            for (i, &b) in skipped.iter().enumerate() {
+                if b == b'\n' {
+                    line += 1;
+                    start = from + i + 1;
+                }
+            }
+            self.cursor.set((from + n, line, start));
+        }
+        // White space is ASCII, so what follows starts a character.
+        self.pos += n;
+    }
+
+    /// The next word when it has no quotes (nearly every word) and where it starts, found
+    /// in one pass over the bytes with the line count; `None`, with nothing consumed, for
+    /// anything else (quotes, the end of the text), which [`Source::word`] then reads.
+    #[inline(always)]
+    fn plain_word(&mut self) -> Option<(&'t str, usize)> {
+        let text: &'t str = self.text;
+        let bytes = text.as_bytes();
+        let i = self.pos;
+        let (rest, space) = bytes_while(bytes.get(i..)?, is_space_byte).ok()?;
+        let (after, w) = bytes_while1(rest, is_plain_byte).ok()?;
+        if after.first().is_some_and(|&b| !is_space_byte(b)) {
+            return None; // a quote continues the word
+        }
+        let w0 = i + space.len();
+        let end = w0 + w.len();
+        // Both ends are next to ASCII bytes (or the text's ends): character boundaries.
+        let word = text.get(w0..end)?;
+        let (from, mut line, mut start) = self.cursor.get();
+        if from == i {
+            for (k, &b) in space.iter().enumerate() {
+                if b == b'\n' {
+                    line += 1;
+                    start = i + k + 1;
+                }
+            }
+            self.cursor.set((end, line, start));
+        }
+        self.pos = end;
+        Some((word, w0))
+    }
+
+    /// The next `n` words as plain decimals ([`plain_decimal`]) into `out`, in one pass
+    /// over the bytes: the coordinates of a million polygons. `false`, with nothing
+    /// consumed and `out` as it was, at the first word that needs [`Source::word`] and
+    /// [`parse_real`] (quotes, an exponent, no more text, not a number), which then also
+    /// give the error, so messages and locations are those of the general reader.
+    fn plain_reals(&mut self, n: usize, out: &mut Vec<f64>) -> bool {
+        let bytes = self.text.as_bytes();
+        let (from, mut line, mut start) = self.cursor.get();
+        let tracked = from == self.pos;
+        let kept = out.len();
+        let mut i = self.pos;
+        for _ in 0..n {
+            let (rest, space) =
+                bytes_while(&bytes[i..], is_space_byte).unwrap_or((&bytes[i..], &[]));
+            if tracked {
+                for (k, &b) in space.iter().enumerate() {
+                    if b == b'\n' {
+                        line += 1;
+                        start = i + k + 1;
+                    }
+                }
+            }
+            i += space.len();
+            // A decimal that is the whole word: white space or the end right after it.
+            let value = decimal_prefix(rest)
+                .filter(|&(_, len)| rest.get(len).is_none_or(|&b| is_space_byte(b)));
+            let Some((v, len)) = value else {
+                out.truncate(kept);
+                return false;
+            };
+            out.push(v);
+            i += len;
+        }
+        self.pos = i;
+        if tracked {
+            self.cursor.set((i, line, start));
+        }
+        true
     }
 
     /// The location of byte `offset`, computed only when it is needed (an error, or once
-    /// per object): a 1M-polygon scene has ~15M words, and building a `Location` (line
-    /// search, column count, file-name copy) for each was most of the load time.
+    /// per object): a 1M-polygon scene has ~15M words.
     fn at(&self, offset: usize) -> Location {
         let (l, c) = self.line_col(offset);
-        Location::at(self.name.clone(), l, c)
+        Location::at(self.name.to_string(), l, c)
     }
 
     /// The next word and the byte offset where it starts, or an error naming `context` and
@@ -179,7 +418,10 @@ impl<'t> Source<'t> {
         &mut self,
         context: &dyn Fn() -> String,
         what: &dyn Fn() -> String,
-    ) -> Result<(String, usize)> {
+    ) -> Result<(Cow<'t, str>, usize)> {
+        if let Some((w, start)) = self.plain_word() {
+            return Ok((Cow::Borrowed(w), start));
+        }
         self.skip_space();
         let start = self.pos;
         if self.rest().is_empty() {
@@ -191,6 +433,11 @@ impl<'t> Source<'t> {
         match word(self.rest()) {
             Ok((rest, w)) if !rest.starts_with(is_quote) => {
                 self.advance(rest);
+                // A word without quotes holds no line break: counted up to its end.
+                let (from, line, line_start) = self.cursor.get();
+                if from == start && matches!(w, Cow::Borrowed(_)) {
+                    self.cursor.set((self.pos, line, line_start));
+                }
                 Ok((w, start))
             }
             _ => Err(Error::parse(
@@ -201,16 +448,29 @@ impl<'t> Source<'t> {
     }
 }
 
-/// Builds a [`Scene`] from one or more pieces of text.
+/// Builds a [`Scene`] (or a [`super::CompactScene`]) from one or more pieces of text.
 pub(crate) struct Loader<'o> {
     opts: &'o LoadOptions,
     objects: Vec<Object>,
     directives: Vec<super::Directive>,
     /// Most recent modifier with each id (`modobject.c` `modtab`).
     modifiers: HashMap<String, usize>,
+    /// The last modifier looked up (a million surfaces name a handful of modifiers, mostly
+    /// the same one in a row: one comparison instead of a hash).
+    last_modifier: Option<(String, usize)>,
     /// Inline commands run so far, and the most allowed ([`MAX_COMMANDS`]).
     commands: usize,
     max_commands: usize,
+    /// Plain surfaces go here instead of `objects` when set ([`Loader::compact`]).
+    table: Option<SurfaceTable>,
+    /// With a table: the position among all objects of each of `objects`.
+    rest_index: Vec<u32>,
+    /// The real arguments of the object being read (reused: one allocation per load).
+    reals: Vec<f64>,
+    /// Files read besides the inputs (`specfile` data).
+    files: Vec<PathBuf>,
+    /// Inline commands run (their text).
+    ran: Vec<String>,
 }
 
 impl<'o> Loader<'o> {
@@ -220,8 +480,22 @@ impl<'o> Loader<'o> {
             objects: Vec::new(),
             directives: Vec::new(),
             modifiers: HashMap::new(),
+            last_modifier: None,
             commands: 0,
             max_commands: MAX_COMMANDS,
+            table: None,
+            rest_index: Vec::new(),
+            reals: Vec::new(),
+            files: Vec::new(),
+            ran: Vec::new(),
+        }
+    }
+
+    /// A loader that keeps plain surfaces in a [`SurfaceTable`] ([`Loader::finish_compact`]).
+    pub fn compact(opts: &'o LoadOptions) -> Self {
+        Loader {
+            table: Some(SurfaceTable::default()),
+            ..Loader::new(opts)
         }
     }
 
@@ -232,9 +506,22 @@ impl<'o> Loader<'o> {
         }
     }
 
+    pub fn finish_compact(self) -> super::CompactScene {
+        super::CompactScene {
+            rest: Scene {
+                objects: self.objects,
+                directives: self.directives,
+            },
+            rest_index: self.rest_index,
+            surfaces: self.table.unwrap_or_default(),
+            files: self.files,
+            commands: self.ran,
+        }
+    }
+
     /// Objects read so far.
     pub fn len(&self) -> usize {
-        self.objects.len()
+        self.objects.len() + self.table.as_ref().map_or(0, SurfaceTable::len)
     }
 
     /// Read one scene input as Radiance names them: `-` (stdin), `!command`, or a file.
@@ -253,7 +540,11 @@ impl<'o> Loader<'o> {
         } else {
             let buf = std::fs::read(input).map_err(|e| Error::io(input, e))?;
             super::wrong_kind::check(&buf, input)?;
-            let text = String::from_utf8_lossy(&buf);
+            // Valid UTF-8 is checked by the faster `from_utf8`; only bad bytes need `lossy`.
+            let text = match std::str::from_utf8(&buf) {
+                Ok(t) => Cow::Borrowed(t),
+                Err(_) => String::from_utf8_lossy(&buf),
+            };
             let dir = Path::new(input)
                 .parent()
                 .map(Path::to_path_buf)
@@ -309,6 +600,7 @@ impl<'o> Loader<'o> {
         // Location of the command line itself: file:line (the column is always 1).
         let origin = Location::line(loc.file.clone(), loc.line.unwrap_or(1));
         self.count_command(&origin)?;
+        self.ran.push(cmd.trim_end_matches('\r').to_string());
         let out = exec::run(
             cmd.trim_end_matches('\r'),
             &src.base_dir,
@@ -337,25 +629,33 @@ impl<'o> Loader<'o> {
 
     fn object(&mut self, src: &mut Source) -> Result<()> {
         let (mod_name, start) = src.word(&String::new, &|| "a modifier".into())?;
-        let loc = src.at(start);
+        let (line, col) = src.line_col(start);
+        let file = src.name.clone();
+        let loc = || Location::at(file.to_string(), line, col);
         if mod_name.contains('\t') {
             return Err(Error::parse(
-                loc,
+                loc(),
                 format!("illegal tab in modifier '{}'", mod_name.escape_debug()),
             ));
         }
         // Resolve the modifier first, like getobject(): None = void, Some(None) = inherit.
-        let modifier: Option<Option<usize>> = match mod_name.as_str() {
+        let modifier: Option<Option<usize>> = match &*mod_name {
             "void" => Some(None),
             "inherit" => None,
-            name => match self.modifiers.get(name) {
-                Some(&i) => Some(Some(i)),
-                None => {
-                    return Err(Error::parse(loc, format!("undefined modifier '{name}'")));
-                }
+            name => match &self.last_modifier {
+                Some((last, i)) if last == name => Some(Some(*i)),
+                _ => match self.modifiers.get(name) {
+                    Some(&i) => {
+                        self.last_modifier = Some((name.to_string(), i));
+                        Some(Some(i))
+                    }
+                    None => {
+                        return Err(Error::parse(loc(), format!("undefined modifier '{name}'")));
+                    }
+                },
             },
         };
-        let ctx = || format!("after modifier '{mod_name}' (object starting at {loc})");
+        let ctx = || format!("after modifier '{mod_name}' (object starting at {})", loc());
         let (type_name, tloc) = src.word(&ctx, &|| "a primitive type".into())?;
         let otype = if type_name == "alias" {
             None
@@ -383,15 +683,22 @@ impl<'o> Loader<'o> {
                 format!("illegal modifier name '{id}'"),
             ));
         }
-        let ctx = || format!("inside {type_name} '{id}' (started at {loc})");
+        let ctx = || format!("inside {type_name} '{id}' (started at {})", loc());
 
         let Some(otype) = otype else {
             let msg = ctx();
-            return self.alias(src, loc, mod_name, modifier, id, &move || msg.clone());
+            return self.alias(
+                src,
+                loc(),
+                mod_name.into_owned(),
+                modifier,
+                id.into_owned(),
+                &move || msg.clone(),
+            );
         };
         let Some(modifier) = modifier else {
             return Err(Error::parse(
-                loc,
+                loc(),
                 format!("{type_name} '{id}': 'inherit' can only be the modifier of an alias"),
             ));
         };
@@ -413,7 +720,8 @@ impl<'o> Loader<'o> {
         for i in 0..ns {
             strings.push(
                 src.word(&ctx, &|| format!("string argument {} of {ns}", i + 1))?
-                    .0,
+                    .0
+                    .into_owned(),
             );
         }
         let (ni, niloc) = src.word(&ctx, &|| "the number of integer arguments (0)".into())?;
@@ -437,8 +745,10 @@ impl<'o> Loader<'o> {
                 ));
             }
         };
-        let mut reals = Vec::new();
-        for i in 0..nr {
+        let mut reals = std::mem::take(&mut self.reals);
+        reals.clear();
+        let fast = src.plain_reals(nr, &mut reals);
+        for i in (0..nr).filter(|_| !fast) {
             let what = || format!("real argument {} of {nr}", i + 1);
             let (w, wloc) = src.word(&ctx, &what)?;
             match parse_real(&w) {
@@ -466,19 +776,36 @@ impl<'o> Loader<'o> {
                 otype.real_count().mismatch(otype, &id, "real", nr),
             ));
         }
-        let mut kind = Primitive::from_args(otype, strings, reals).ok_or_else(|| {
-            Error::parse(loc.clone(), format!("{type_name} '{id}': bad arguments"))
-        })?;
+        if let Some(table) = &mut self.table {
+            if is_plain_surface(otype) {
+                let number = match src.file_number.get() {
+                    Some(k) => k,
+                    None => {
+                        let k = table.file_number(&src.name)?;
+                        src.file_number.set(Some(k));
+                        k
+                    }
+                };
+                let index = self.objects.len() + table.len();
+                table.push(otype, modifier, index, &reals, &id, number, line, col)?;
+                self.reals = reals;
+                return Ok(());
+            }
+        }
+        let kind = Primitive::from_args(otype, strings, reals.clone())
+            .ok_or_else(|| Error::parse(loc(), format!("{type_name} '{id}': bad arguments")))?;
+        self.reals = reals;
+        let mut kind = kind;
         if let Primitive::SpecFile { file, data } = &mut kind {
-            *data = read_specfile(file, &src.base_dir)?;
+            *data = read_specfile(file, &src.base_dir, &mut self.files)?;
         }
         self.push(Object {
             modifier,
-            modifier_name: mod_name,
-            id,
+            modifier_name: mod_name.into_owned(),
+            id: id.into_owned(),
             kind,
             alias: None,
-            loc,
+            loc: loc(),
         });
         Ok(())
     }
@@ -493,7 +820,7 @@ impl<'o> Loader<'o> {
         ctx: &dyn Fn() -> String,
     ) -> Result<()> {
         let (old, oloc) = src.word(ctx, &|| "the id of the aliased modifier".into())?;
-        let Some(&target) = self.modifiers.get(&old) else {
+        let Some(&target) = self.modifiers.get(&*old) else {
             return Err(Error::parse(
                 src.at(oloc),
                 format!("alias '{id}' refers to undefined modifier '{old}'"),
@@ -516,7 +843,7 @@ impl<'o> Loader<'o> {
             kind: original.kind.clone(),
             alias: Some(Alias {
                 target,
-                target_id: old,
+                target_id: old.into_owned(),
             }),
             loc,
         };
@@ -526,6 +853,12 @@ impl<'o> Loader<'o> {
 
     fn push(&mut self, obj: Object) {
         let index = self.objects.len();
+        if let Some(table) = &self.table {
+            // Beyond u32::MAX objects (hundreds of GB of text) the position saturates;
+            // the table refuses its own surfaces long before.
+            self.rest_index
+                .push(u32::try_from(index + table.len()).unwrap_or(u32::MAX));
+        }
         if obj.kind.otype().is_modifier() {
             // insertobject(): an identical redefinition keeps the earlier index.
             let same = self
@@ -535,6 +868,7 @@ impl<'o> Loader<'o> {
                 .is_some_and(|prev| prev.kind == obj.kind && prev.modifier == obj.modifier);
             if !same {
                 self.modifiers.insert(obj.id.clone(), index);
+                self.last_modifier = None;
             }
         }
         self.objects.push(obj);
@@ -543,7 +877,7 @@ impl<'o> Loader<'o> {
 
 /// Read the data file of a `specfile`: looked up in the scene file's folder, then in the
 /// `RAYPATH` folders (Radiance's `getpath` search). `Ok(None)` if it is nowhere.
-fn read_specfile(file: &str, base_dir: &Path) -> Result<Option<SpecData>> {
+fn read_specfile(file: &str, base_dir: &Path, read: &mut Vec<PathBuf>) -> Result<Option<SpecData>> {
     let mut candidates = vec![base_dir.join(file)];
     if Path::new(file).is_relative() {
         if let Some(raypath) = std::env::var_os("RAYPATH") {
@@ -554,6 +888,7 @@ fn read_specfile(file: &str, base_dir: &Path) -> Result<Option<SpecData>> {
         if path.is_file() {
             let shown = path.display().to_string();
             let bytes = std::fs::read(&path).map_err(|e| Error::io(shown.clone(), e))?;
+            read.push(path.clone());
             return SpecData::parse(&String::from_utf8_lossy(&bytes), &shown).map(Some);
         }
     }
@@ -585,18 +920,15 @@ mod tests {
 
     #[test]
     fn words_follow_fgetword() {
-        assert_eq!(word("abc def").unwrap(), (" def", "abc".to_string()));
-        assert_eq!(
-            word("'a b'c\"d e\" x").unwrap(),
-            (" x", "a bcd e".to_string())
-        );
+        assert_eq!(word("abc def").unwrap(), (" def", "abc".into()));
+        assert_eq!(word("'a b'c\"d e\" x").unwrap(), (" x", "a bcd e".into()));
         assert_eq!(
             word("'Atan2(Dy,Dx)/PI+1' 0").unwrap().1,
             "Atan2(Dy,Dx)/PI+1"
         );
-        assert_eq!(word("''\n").unwrap(), ("\n", String::new()));
+        assert_eq!(word("''\n").unwrap(), ("\n", "".into()));
         // Unterminated quote: the word stops before it; the caller reports it.
-        assert_eq!(word("ab'cd").unwrap(), ("'cd", "ab".to_string()));
+        assert_eq!(word("ab'cd").unwrap(), ("'cd", "ab".into()));
     }
 
     #[test]
@@ -616,6 +948,63 @@ mod tests {
         ] {
             assert_eq!(parse_real(w), None, "{w}");
         }
+    }
+
+    #[test]
+    fn plain_decimals_are_the_doubles_from_str_gives() {
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_pcg::Pcg64::seed_from_u64(18);
+        for _ in 0..200_000 {
+            let digits = rng.random_range(1..=16);
+            let mut w: String = (0..digits)
+                .map(|_| char::from(b'0' + rng.random_range(0..10u8)))
+                .collect();
+            if rng.random_bool(0.8) {
+                w.insert(rng.random_range(0..=w.len()), '.');
+            }
+            match rng.random_range(0..3) {
+                0 => w.insert(0, '-'),
+                1 => w.insert(0, '+'),
+                _ => {}
+            }
+            let want = w.parse::<f64>().ok().filter(|v| v.is_finite());
+            let got = parse_real(&w);
+            assert_eq!(
+                got.map(f64::to_bits),
+                want.map(f64::to_bits),
+                "{w}: {got:?} vs {want:?}"
+            );
+        }
+        assert_eq!(
+            parse_real("-0").map(f64::to_bits),
+            Some((-0.0f64).to_bits())
+        );
+        assert_eq!(plain_decimal(b"9007199254740993"), None);
+    }
+
+    #[test]
+    fn reals_in_any_form_read_alike_and_bad_ones_are_placed() {
+        let parse =
+            |text: &str| crate::scene::parse_str(text, "r.rad", Path::new(""), &Default::default());
+        // Plain decimals, an exponent, a quoted number, signs: the one-pass reader hands
+        // over to the general one at the first word it does not take.
+        let s = parse("void plastic m 0 0 5 .5 1e-1 '0.3' +2 -0\n").unwrap();
+        let (_, r) = s.objects[0].kind.to_args();
+        assert_eq!(r, [0.5, 0.1, 0.3, 2.0, -0.0]);
+        let s =
+            parse("void polygon p 0 0 9\n 0 0 0\n 1 0 0\n 1 1 0\nvoid plastic q 0 0 5 1 1 1 0 0\n")
+                .unwrap();
+        assert_eq!(s.objects[1].loc.line, Some(5));
+        let e = parse("void polygon p 0 0 9\n 0 0 0\n 1 x 0\n 1 1 0\n").unwrap_err();
+        assert!(
+            e.to_string()
+                .starts_with("r.rad:3:4: polygon 'p': real argument 5 of 9"),
+            "{e}"
+        );
+        let e = parse("void polygon p 0 0 9\n 0 0 0\n 1 0")
+            .unwrap_err()
+            .to_string();
+        assert!(e.starts_with("r.rad:3:5: unexpected end of file"), "{e}");
     }
 
     #[test]

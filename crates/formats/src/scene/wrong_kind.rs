@@ -30,6 +30,10 @@ pub fn check(bytes: &[u8], name: &str) -> Result<()> {
         Some(Kind::Octree) => Err(Error::Usage(format!(
             "{name} is a Radiance octree (oconv output); give the .rad scene files instead"
         ))),
+        Some(Kind::Compiled) => Err(Error::Usage(format!(
+            "{name} is a compiled scene (rdc --compile output): give it to rdc as its only \
+             scene input, or give the .rad scene files instead"
+        ))),
         Some(kind) => Err(Error::Usage(format!(
             "{name} is {}, not a scene description; give the .rad scene files instead",
             kind.describe()
@@ -45,6 +49,7 @@ pub fn is_octree(head: &[u8]) -> bool {
 #[derive(Debug, Clone, PartialEq, Eq)]
 enum Kind {
     Octree,
+    Compiled,
     Picture(String),
     Matrix(String),
     Photo(&'static str),
@@ -56,6 +61,7 @@ impl Kind {
     fn describe(&self) -> String {
         match self {
             Kind::Octree => "a Radiance octree".into(),
+            Kind::Compiled => "a compiled scene".into(),
             Kind::Picture(f) => format!("a Radiance picture (FORMAT={f})"),
             Kind::Matrix(f) => format!("a Radiance matrix (FORMAT={f})"),
             Kind::Photo(f) => format!("a {f} picture"),
@@ -115,6 +121,7 @@ fn radiance(head: &[u8]) -> Option<Kind> {
     }
     match format.as_deref() {
         Some("Radiance_octree") => Some(Kind::Octree),
+        Some(super::compiled::FORMAT) => Some(Kind::Compiled),
         Some(f @ ("32-bit_rle_rgbe" | "32-bit_rle_xyze" | "Radiance_spectra")) => {
             Some(Kind::Picture(f.into()))
         }

@@ -3,7 +3,7 @@
 //! Structure: polygons are triangulated ([`super::triangulate`]); every triangle and every
 //! analytic shape (sphere, cone, cylinder, ring) becomes one primitive with an axis-aligned
 //! box. `obvhs` builds a compressed 8-wide BVH (CWBVH, Ylitie et al. 2017, from a PLOC BVH2,
-//! Meister & Bittner 2018; preset `BvhBuildParams::medium_build`) over the boxes, and its
+//! Meister & Bittner 2018; preset [`PRESET`]) over the boxes, and its
 //! traversal calls back into our own `f64` intersection routines for each candidate.
 //!
 //! **Precision.** The BVH works in `f32`. Two measures keep that from costing accuracy:
@@ -43,11 +43,19 @@ use obvhs::{
     ray::{Ray as BvhRay, RayHit},
 };
 
-use super::Shape;
 use super::ray::{Hit, Ray};
-use super::shapes::{AnalyticGeom, Object, ShapeError, TriGeom};
-use super::triangulate::{newell_normal, triangulate};
+use super::shapes::{AnalyticGeom, Object, ShapeError, ShapeRef, TriGeom, flat_vertices};
+use super::triangulate::{newell_normal, triangulate_into};
 use super::vec3::Vec3;
+
+/// The build parameters: obvhs' `fast_build` preset (PLOC search distance 6, 2 % of the
+/// nodes re-inserted). Against `medium_build` (distance 14, 5 %) it builds a 1M-triangle
+/// scene in about three quarters of the CPU time (1.28 against 1.63 CPU-s, this machine,
+/// issue 18) and traces as fast (1.3-1.4e5 paths/s on that scene, 5.4-7.2e5 on the
+/// furnished office, both presets, same bytes). Hits are exact whichever the tree (the
+/// BVH only culls), so the preset changes speed only, and at most which of two surfaces hit
+/// at exactly the same distance is reported (see "Ties" above).
+pub const PRESET: BvhBuildParams = BvhBuildParams::fast_build();
 
 /// How far before the wanted interval the `f32` traversal ray starts: 4 × obvhs' node
 /// `EPSILON` (1e-4, a distance below which it drops node exits), in scene units.
@@ -167,6 +175,70 @@ impl Placed {
     }
 }
 
+/// `v[j] = v[from[j]]` for every `j`, in place, when `from` is a permutation (cycle by
+/// cycle, each element moved once); otherwise (never for obvhs' trees without spatial
+/// splits) through a copy.
+fn gather_in_place<T: Copy>(v: &mut Vec<T>, from: &[u32]) {
+    let n = v.len();
+    let mut seen = vec![false; n];
+    let permutation = from.len() == n
+        && from.iter().all(|&k| {
+            let k = k as usize;
+            k < n && !std::mem::replace(&mut seen[k], true)
+        });
+    if !permutation {
+        *v = from
+            .iter()
+            .filter_map(|&k| v.get(k as usize).copied())
+            .collect();
+        return;
+    }
+    let mut done = seen;
+    done.fill(false);
+    for start in 0..n {
+        if done[start] {
+            continue;
+        }
+        let first = v[start];
+        let mut j = start;
+        loop {
+            done[j] = true;
+            let k = from[j] as usize;
+            if k == start {
+                v[j] = first;
+                break;
+            }
+            v[j] = v[k];
+            j = k;
+        }
+    }
+}
+
+/// What a primitive is, before the BVH orders them: a triangle of object `.0` (vertex
+/// numbers into its polygon), an analytic object, or a placed BVH.
+#[derive(Debug, Clone, Copy)]
+enum PrimSrc {
+    Tri(u32, [u32; 3]),
+    Analytic(u32),
+    Placed(u32),
+}
+
+/// The surfaces a BVH is built over: `count` of them, surface `i` as a borrowed shape and
+/// the id its hits report.
+pub trait ShapeSource {
+    fn count(&self) -> usize;
+    fn get(&self, i: usize) -> (ShapeRef<'_>, u32);
+}
+
+impl ShapeSource for [Object] {
+    fn count(&self) -> usize {
+        self.len()
+    }
+    fn get(&self, i: usize) -> (ShapeRef<'_>, u32) {
+        (self[i].shape.as_ref(), self[i].id)
+    }
+}
+
 #[derive(Debug, Clone, Copy)]
 struct Prim {
     geom: PrimGeom,
@@ -244,14 +316,14 @@ pub struct Bvh {
 }
 
 impl Bvh {
-    /// Build with obvhs' `medium_build` preset (its authors' balance of build and trace cost).
+    /// Build with the [`PRESET`] parameters.
     pub fn build(objects: &[Object]) -> Result<Bvh, BuildError> {
-        Self::build_with(objects, BvhBuildParams::medium_build())
+        Self::build_with(objects, PRESET)
     }
 
-    /// Build a two-level BVH with the `medium_build` preset (see [`Bvh::build_two_level`]).
+    /// Build a two-level BVH with the [`PRESET`] parameters (see [`Bvh::build_two_level`]).
     pub fn build_placed(objects: &[Object], placed: Vec<Placed>) -> Result<Bvh, BuildError> {
-        Self::build_two_level(objects, placed, BvhBuildParams::medium_build())
+        Self::build_two_level(objects, placed, PRESET)
     }
 
     /// Build with explicit obvhs parameters.
@@ -266,20 +338,44 @@ impl Bvh {
         placed: Vec<Placed>,
         params: BvhBuildParams,
     ) -> Result<Bvh, BuildError> {
+        Self::build_from(objects, placed, params, true)
+    }
+
+    /// Build over any [`ShapeSource`] (the tracer reads its column-wise scene in place),
+    /// with the [`PRESET`] parameters. `validate: false` skips [`ShapeRef::validate`] for a
+    /// caller that checked every shape already (to name its own `file:line`); a polygon
+    /// that does not triangulate is still an error.
+    pub fn build_source<S: ShapeSource + ?Sized>(
+        objects: &S,
+        placed: Vec<Placed>,
+        validate: bool,
+    ) -> Result<Bvh, BuildError> {
+        Self::build_from(objects, placed, PRESET, validate)
+    }
+
+    fn build_from<S: ShapeSource + ?Sized>(
+        objects: &S,
+        placed: Vec<Placed>,
+        params: BvhBuildParams,
+        validate: bool,
+    ) -> Result<Bvh, BuildError> {
         let start = std::time::Instant::now();
         let placed: Vec<Placed> = placed
             .into_iter()
             .filter(|p| p.bvh.cwbvh.is_some())
             .collect();
+        let n = objects.count();
+        let mut scratch: Vec<Vec3> = Vec::new();
         let mut lo = Vec3::splat(f64::INFINITY);
         let mut hi = Vec3::splat(f64::NEG_INFINITY);
-        for (index, o) in objects.iter().enumerate() {
-            o.shape.validate().map_err(|error| BuildError {
-                index,
-                id: o.id,
-                error,
-            })?;
-            let (a, b) = o.shape.bounds();
+        for index in 0..n {
+            let (shape, id) = objects.get(index);
+            if validate {
+                shape
+                    .validate(&mut scratch)
+                    .map_err(|error| BuildError { index, id, error })?;
+            }
+            let (a, b) = shape.bounds();
             lo = lo.min(a);
             hi = hi.max(b);
         }
@@ -288,7 +384,7 @@ impl Bvh {
             lo = lo.min(a);
             hi = hi.max(b);
         }
-        if objects.is_empty() && placed.is_empty() {
+        if n == 0 && placed.is_empty() {
             return Ok(Bvh {
                 centre: Vec3::ZERO,
                 lo: Vec3::ZERO,
@@ -305,67 +401,110 @@ impl Bvh {
         let diag = (hi - lo).length();
         let pad = 1e-5 * diag + 4.0 * f32::EPSILON as f64;
 
-        let mut prims = Vec::with_capacity(objects.len());
-        let mut boxes: Vec<Aabb> = Vec::with_capacity(objects.len());
-        let mut infos = Vec::with_capacity(objects.len());
+        // Pass 1: what each primitive is (16 bytes) and its box. The primitives themselves
+        // (72-byte triangles) are made only in pass 2, in leaf order, so the two never
+        // coexist with the builder's own arrays (issue 18: peak memory of 1M triangles).
+        let mut srcs: Vec<PrimSrc> = Vec::with_capacity(n + placed.len());
+        let mut tris: Vec<[usize; 3]> = Vec::new();
+        let mut boxes: Vec<Aabb> = Vec::with_capacity(n + placed.len());
         let to_aabb = |a: Vec3, b: Vec3| {
             let (a, b) = (a - Vec3::splat(pad), b + Vec3::splat(pad));
             Aabb::new(a.to_f32().into(), b.to_f32().into())
         };
-        for (index, o) in objects.iter().enumerate() {
+        for index in 0..n {
             let obj = index as u32;
-            match &o.shape {
-                Shape::Polygon { vertices } => {
-                    let v: Vec<Vec3> = vertices.iter().map(|&p| Vec3::from(p) - centre).collect();
-                    let tris = triangulate(&v).map_err(|e| BuildError {
+            let (shape, id) = objects.get(index);
+            match shape {
+                ShapeRef::Polygon(flat) => {
+                    scratch.clear();
+                    scratch.extend(flat_vertices(flat).map(|p| p - centre));
+                    let v = &scratch;
+                    triangulate_into(v, &mut tris).map_err(|e| BuildError {
                         index,
-                        id: o.id,
+                        id,
                         error: ShapeError::Polygon(e),
                     })?;
-                    infos.push(ObjInfo {
-                        id: o.id,
-                        normal: newell_normal(&v).normalize(),
-                    });
-                    for [a, b, c] in tris {
-                        let (a, b, c) = (v[a], v[b], v[c]);
-                        prims.push(Prim {
-                            geom: PrimGeom::Tri(TriGeom::new(a, b, c)),
-                            obj,
-                        });
-                        boxes.push(to_aabb(a.min(b).min(c), a.max(b).max(c)));
+                    for &[a, b, c] in &tris {
+                        let (pa, pb, pc) = (v[a], v[b], v[c]);
+                        srcs.push(PrimSrc::Tri(obj, [a as u32, b as u32, c as u32]));
+                        boxes.push(to_aabb(pa.min(pb).min(pc), pa.max(pb).max(pc)));
                     }
                 }
                 shape => {
-                    infos.push(ObjInfo {
-                        id: o.id,
-                        normal: Vec3::ZERO,
-                    });
-                    let geom = AnalyticGeom::new(shape, centre)
-                        .expect("non-polygon shapes always have an analytic form");
                     let (a, b) = shape.bounds();
-                    prims.push(Prim {
-                        geom: PrimGeom::Analytic(geom),
-                        obj,
-                    });
+                    srcs.push(PrimSrc::Analytic(obj));
                     boxes.push(to_aabb(a - centre, b - centre));
                 }
             }
         }
         for (k, p) in placed.iter().enumerate() {
             let (a, b) = p.bounds();
-            prims.push(Prim {
-                geom: PrimGeom::Placed(k as u32),
-                obj: u32::MAX,
-            });
+            srcs.push(PrimSrc::Placed(k as u32));
             boxes.push(to_aabb(a - centre, b - centre));
         }
         let cwbvh = build_cwbvh(&boxes, params, &mut Duration::default());
-        // Store primitives in leaf order so that traversal indexes them directly.
-        let prims = cwbvh
-            .primitive_indices
-            .iter()
-            .map(|&i| prims[i as usize])
-            .collect();
+        drop(boxes);
+        // Pass 2: the primitives and each object's normal in input order (reading the
+        // shapes sequentially), then the primitives put in leaf order in place, so that
+        // traversal indexes them directly. Made in leaf order straight away, each would
+        // fetch its polygon from a random place (a cache miss per array); gathered into a
+        // second array, they would take 80 MB more for 1M triangles.
+        let vertex = |flat: &[f64], k: u32| {
+            let k = 3 * k as usize;
+            Vec3::new(flat[k], flat[k + 1], flat[k + 2]) - centre
+        };
+        let mut prims: Vec<Prim> = Vec::with_capacity(srcs.len());
+        let mut infos: Vec<ObjInfo> = Vec::with_capacity(n);
+        for src in &srcs {
+            let prim = match *src {
+                PrimSrc::Tri(obj, [a, b, c]) => {
+                    let (shape, id) = objects.get(obj as usize);
+                    let ShapeRef::Polygon(flat) = shape else {
+                        unreachable!("triangles come from polygons")
+                    };
+                    // An object's triangles are consecutive: the first one brings its normal.
+                    if infos.len() == obj as usize {
+                        scratch.clear();
+                        scratch.extend(flat_vertices(flat).map(|p| p - centre));
+                        let normal = newell_normal(&scratch).normalize();
+                        infos.push(ObjInfo { id, normal });
+                    }
+                    Prim {
+                        geom: PrimGeom::Tri(TriGeom::new(
+                            vertex(flat, a),
+                            vertex(flat, b),
+                            vertex(flat, c),
+                        )),
+                        obj,
+                    }
+                }
+                PrimSrc::Analytic(obj) => {
+                    let (shape, id) = objects.get(obj as usize);
+                    infos.push(ObjInfo {
+                        id,
+                        normal: Vec3::ZERO,
+                    });
+                    Prim {
+                        geom: PrimGeom::Analytic(
+                            AnalyticGeom::new(shape, centre)
+                                .expect("non-polygon shapes always have an analytic form"),
+                        ),
+                        obj,
+                    }
+                }
+                PrimSrc::Placed(k) => Prim {
+                    geom: PrimGeom::Placed(k),
+                    obj: u32::MAX,
+                },
+            };
+            prims.push(prim);
+        }
+        drop(srcs);
+        debug_assert_eq!(infos.len(), n);
+        gather_in_place(&mut prims, &cwbvh.primitive_indices);
+        // Traversal hands out leaf positions, which now index `prims` directly.
+        let mut cwbvh = cwbvh;
+        cwbvh.primitive_indices = Vec::new();
         Ok(Bvh {
             centre,
             lo: lo - centre - Vec3::splat(pad),
@@ -535,9 +674,418 @@ impl Bvh {
     }
 }
 
+/// Compiled scene files (`rdc --compile`): a BVH written as built and read back exactly, so
+/// tracing from the file gives the same bytes as tracing the scene. Layout:
+/// `docs/scene-binary-formats.md`, "Compiled scenes".
+mod binary {
+    use super::*;
+    use crate::formats::scene::compiled::{Decoder, Encoder};
+    use obvhs::cwbvh::node::CwBvhNode;
+
+    const TRI: u8 = 0;
+    const SPHERE: u8 = 1;
+    const CONE: u8 = 2;
+    const RING: u8 = 3;
+    const PLACED: u8 = 4;
+
+    fn v3(e: &mut Encoder, v: Vec3) {
+        e.f64(v.x);
+        e.f64(v.y);
+        e.f64(v.z);
+    }
+
+    /// Three doubles from the first 24 bytes of `b` (24 or more).
+    #[inline(always)]
+    fn get_v3(b: &[u8]) -> Vec3 {
+        let b: &[u8; 24] = b[..24].try_into().expect("24 bytes");
+        let f = |k: usize| {
+            f64::from_le_bytes([
+                b[k],
+                b[k + 1],
+                b[k + 2],
+                b[k + 3],
+                b[k + 4],
+                b[k + 5],
+                b[k + 6],
+                b[k + 7],
+            ])
+        };
+        Vec3::new(f(0), f(8), f(16))
+    }
+
+    fn read_v3(d: &mut Decoder, what: &str) -> Result<Vec3, crate::Error> {
+        Ok(get_v3(d.bytes(24, what)?))
+    }
+
+    fn read_m4(d: &mut Decoder, what: &str) -> Result<[[f64; 4]; 4], crate::Error> {
+        let v = d.f64s(16, what)?;
+        Ok(std::array::from_fn(|i| {
+            std::array::from_fn(|j| v[4 * i + j])
+        }))
+    }
+
+    impl Bvh {
+        /// Write this BVH with the shared BVHs it places (each once).
+        pub fn encode(&self, e: &mut Encoder) {
+            let mut units: Vec<&std::sync::Arc<Bvh>> = Vec::new();
+            let unit_of: Vec<usize> = self
+                .placed
+                .iter()
+                .map(
+                    |p| match units.iter().position(|u| std::sync::Arc::ptr_eq(u, &p.bvh)) {
+                        Some(k) => k,
+                        None => {
+                            units.push(&p.bvh);
+                            units.len() - 1
+                        }
+                    },
+                )
+                .collect();
+            e.len(units.len());
+            for u in &units {
+                u.encode_one(e);
+            }
+            self.encode_one(e);
+            e.len(self.placed.len());
+            for (p, &u) in self.placed.iter().zip(&unit_of) {
+                e.u32(u as u32);
+                for row in p.fwd.iter().chain(&p.inv) {
+                    e.f64s(row);
+                }
+                e.f64(p.sca);
+                e.u32(p.id_offset);
+            }
+        }
+
+        /// One BVH without its placements.
+        fn encode_one(&self, e: &mut Encoder) {
+            v3(e, self.centre);
+            v3(e, self.lo);
+            v3(e, self.hi);
+            e.f64(self.pad);
+            match &self.cwbvh {
+                None => e.u8(0),
+                Some(cw) => {
+                    e.u8(1);
+                    e.len(cw.nodes.len());
+                    for n in &cw.nodes {
+                        for c in n.p.to_array() {
+                            e.f32(c);
+                        }
+                        e.bytes(&n.e);
+                        e.u8(n.imask);
+                        e.u32(n.child_base_idx);
+                        e.u32(n.primitive_base_idx);
+                        for a in [
+                            &n.child_meta,
+                            &n.child_min_x,
+                            &n.child_max_x,
+                            &n.child_min_y,
+                            &n.child_max_y,
+                            &n.child_min_z,
+                            &n.child_max_z,
+                        ] {
+                            e.bytes(a);
+                        }
+                    }
+                    for c in cw.total_aabb.min.to_array() {
+                        e.f32(c);
+                    }
+                    for c in cw.total_aabb.max.to_array() {
+                        e.f32(c);
+                    }
+                    e.u8(u8::from(cw.uses_spatial_splits));
+                }
+            }
+            e.len(self.prims.len());
+            for p in &self.prims {
+                match &p.geom {
+                    PrimGeom::Tri(t) => {
+                        e.u8(TRI);
+                        e.u32(p.obj);
+                        v3(e, t.v0);
+                        v3(e, t.e1);
+                        v3(e, t.e2);
+                    }
+                    PrimGeom::Analytic(AnalyticGeom::Sphere { c, r, inward }) => {
+                        e.u8(SPHERE);
+                        e.u32(p.obj);
+                        v3(e, *c);
+                        e.f64(*r);
+                        e.u8(u8::from(*inward));
+                    }
+                    PrimGeom::Analytic(AnalyticGeom::Cone {
+                        p0,
+                        a,
+                        len,
+                        r0,
+                        k,
+                        inward,
+                    }) => {
+                        e.u8(CONE);
+                        e.u32(p.obj);
+                        v3(e, *p0);
+                        v3(e, *a);
+                        e.f64s(&[*len, *r0, *k]);
+                        e.u8(u8::from(*inward));
+                    }
+                    PrimGeom::Analytic(AnalyticGeom::Ring { c, n, rin2, rout2 }) => {
+                        e.u8(RING);
+                        e.u32(p.obj);
+                        v3(e, *c);
+                        v3(e, *n);
+                        e.f64s(&[*rin2, *rout2]);
+                    }
+                    PrimGeom::Placed(k) => {
+                        e.u8(PLACED);
+                        e.u32(*k);
+                    }
+                }
+            }
+            e.len(self.objects.len());
+            for o in &self.objects {
+                e.u32(o.id);
+                v3(e, o.normal);
+            }
+        }
+
+        /// Read what [`Bvh::encode`] wrote, checking every index (nodes, primitives,
+        /// objects, placements) so that tracing it can neither fail nor loop; object ids
+        /// must be below `nsurfaces` (hits index the tracer's surfaces with them).
+        pub fn decode(d: &mut Decoder, nsurfaces: usize) -> Result<Bvh, crate::Error> {
+            let nunits = d.count(1, "shared BVH count")?;
+            let mut units = Vec::with_capacity(nunits);
+            for _ in 0..nunits {
+                let u = Bvh::decode_one(d, 0)?;
+                units.push(std::sync::Arc::new(u));
+            }
+            let mut top = Bvh::decode_one(d, nunits)?;
+            let nplaced = d.count(4 + 33 * 8 + 4, "placement count")?;
+            if top
+                .prims
+                .iter()
+                .any(|p| matches!(p.geom, PrimGeom::Placed(k) if k as usize >= nplaced))
+            {
+                return Err(d.corrupted("a placement beyond the list"));
+            }
+            for _ in 0..nplaced {
+                let unit = d.required_index(nunits, "shared BVH")?;
+                let fwd = read_m4(d, "placement matrix")?;
+                let inv = read_m4(d, "placement inverse")?;
+                let sca = d.f64("placement scale")?;
+                let id_offset = d.u32("placement id offset")?;
+                let bvh = units[unit].clone();
+                let top_id = bvh.objects.iter().map(|o| o.id as usize).max();
+                if top_id.is_some_and(|m| m + id_offset as usize >= nsurfaces) {
+                    return Err(d.corrupted("a placed surface beyond the surface list"));
+                }
+                top.placed.push(Placed {
+                    bvh,
+                    fwd,
+                    inv,
+                    sca,
+                    id_offset,
+                });
+            }
+            if top.objects.iter().any(|o| o.id as usize >= nsurfaces) {
+                return Err(d.corrupted("a surface beyond the surface list"));
+            }
+            Ok(top)
+        }
+
+        /// One BVH (its placements, if any, are read by [`Bvh::decode`]): `nunits` > 0
+        /// allows placed primitives.
+        fn decode_one(d: &mut Decoder, nunits: usize) -> Result<Bvh, crate::Error> {
+            let centre = read_v3(d, "BVH centre")?;
+            let lo = read_v3(d, "BVH bounds")?;
+            let hi = read_v3(d, "BVH bounds")?;
+            let pad = d.f64("BVH padding")?;
+            let cwbvh = if d.bool("BVH flag")? {
+                let n = d.count(80, "BVH node count")?;
+                let mut nodes = Vec::with_capacity(n);
+                for _ in 0..n {
+                    let b = d.bytes(80, "BVH node")?;
+                    let f = |k: usize| f32::from_le_bytes([b[k], b[k + 1], b[k + 2], b[k + 3]]);
+                    let u = |k: usize| u32::from_le_bytes([b[k], b[k + 1], b[k + 2], b[k + 3]]);
+                    let a8 = |k: usize| -> [u8; 8] { std::array::from_fn(|i| b[k + i]) };
+                    nodes.push(CwBvhNode {
+                        p: [f(0), f(4), f(8)].into(),
+                        e: [b[12], b[13], b[14]],
+                        imask: b[15],
+                        child_base_idx: u(16),
+                        primitive_base_idx: u(20),
+                        child_meta: a8(24),
+                        child_min_x: a8(32),
+                        child_max_x: a8(40),
+                        child_min_y: a8(48),
+                        child_max_y: a8(56),
+                        child_min_z: a8(64),
+                        child_max_z: a8(72),
+                    });
+                }
+                let f = d.f32s6("BVH box")?;
+                let spatial = d.bool("BVH split flag")?;
+                Some(CwBvh {
+                    nodes,
+                    primitive_indices: Vec::new(),
+                    total_aabb: Aabb::new([f[0], f[1], f[2]].into(), [f[3], f[4], f[5]].into()),
+                    exact_node_aabbs: None,
+                    uses_spatial_splits: spatial,
+                })
+            } else {
+                None
+            };
+            let np = d.count(5, "primitive count")?;
+            let mut prims = Vec::with_capacity(np);
+            while prims.len() < np {
+                // Runs of triangles (all of a polygon scene's primitives) straight from
+                // the bytes: 77-byte records, one bounds check each.
+                let rest = d.peek();
+                let mut used = 0;
+                while prims.len() < np {
+                    let Some(r) = rest.get(used..used + 77).filter(|r| r[0] == TRI) else {
+                        break;
+                    };
+                    prims.push(Prim {
+                        geom: PrimGeom::Tri(TriGeom {
+                            v0: get_v3(&r[5..29]),
+                            e1: get_v3(&r[29..53]),
+                            e2: get_v3(&r[53..77]),
+                        }),
+                        obj: u32::from_le_bytes([r[1], r[2], r[3], r[4]]),
+                    });
+                    used += 77;
+                }
+                d.bytes(used, "triangles")?;
+                if prims.len() == np {
+                    break;
+                }
+                let tag = d.u8("primitive type")?;
+                let obj = d.u32("primitive object")?;
+                let geom = match tag {
+                    TRI => {
+                        let b = d.bytes(72, "triangle")?;
+                        PrimGeom::Tri(TriGeom {
+                            v0: get_v3(&b[0..24]),
+                            e1: get_v3(&b[24..48]),
+                            e2: get_v3(&b[48..72]),
+                        })
+                    }
+                    SPHERE => PrimGeom::Analytic(AnalyticGeom::Sphere {
+                        c: read_v3(d, "sphere")?,
+                        r: d.f64("sphere")?,
+                        inward: d.bool("sphere")?,
+                    }),
+                    CONE => PrimGeom::Analytic(AnalyticGeom::Cone {
+                        p0: read_v3(d, "cone")?,
+                        a: read_v3(d, "cone")?,
+                        len: d.f64("cone")?,
+                        r0: d.f64("cone")?,
+                        k: d.f64("cone")?,
+                        inward: d.bool("cone")?,
+                    }),
+                    RING => PrimGeom::Analytic(AnalyticGeom::Ring {
+                        c: read_v3(d, "ring")?,
+                        n: read_v3(d, "ring")?,
+                        rin2: d.f64("ring")?,
+                        rout2: d.f64("ring")?,
+                    }),
+                    PLACED if nunits > 0 => PrimGeom::Placed(obj),
+                    t => return Err(d.corrupted(format!("primitive type {t}"))),
+                };
+                let obj = if matches!(geom, PrimGeom::Placed(_)) {
+                    u32::MAX
+                } else {
+                    obj
+                };
+                prims.push(Prim { geom, obj });
+            }
+            let no = d.count(28, "object count")?;
+            let objects: Vec<ObjInfo> = d
+                .bytes(28 * no, "objects")?
+                .chunks_exact(28)
+                .map(|r| ObjInfo {
+                    id: u32::from_le_bytes([r[0], r[1], r[2], r[3]]),
+                    normal: get_v3(&r[4..]),
+                })
+                .collect();
+            if prims
+                .iter()
+                .any(|p| !matches!(p.geom, PrimGeom::Placed(_)) && p.obj as usize >= no)
+            {
+                return Err(d.corrupted("a primitive of an object beyond the list"));
+            }
+            match &cwbvh {
+                Some(cw) => check_nodes(cw, prims.len()).map_err(|e| d.corrupted(e))?,
+                None if !prims.is_empty() => {
+                    return Err(d.corrupted("primitives without a BVH"));
+                }
+                None => {}
+            }
+            Ok(Bvh {
+                centre,
+                lo,
+                hi,
+                pad,
+                cwbvh,
+                prims,
+                objects,
+                placed: Vec::new(),
+                build_time: Duration::ZERO,
+            })
+        }
+    }
+
+    /// The structure obvhs' traversal relies on (`cwbvh/traverse_macro.rs`,
+    /// `node.rs::get_child_and_index_bits`): every child slot is empty, an inner child
+    /// (`meta = 0b001_11sss`, slot `s`, bit `s` of `imask`) or a leaf of 1-3 primitives
+    /// (`meta` = unary count << 5 | offset < 24); inner children lie after their parent
+    /// (so traversal ends) and inside the node list; leaves inside the primitive list.
+    pub(super) fn check_nodes(cw: &CwBvh, nprims: usize) -> Result<(), String> {
+        if cw.nodes.is_empty() {
+            return Err("a BVH without nodes".into());
+        }
+        for (i, n) in cw.nodes.iter().enumerate() {
+            let mut inner = 0u8;
+            for (s, &meta) in n.child_meta.iter().enumerate() {
+                if meta == 0 {
+                    continue;
+                }
+                if meta & 0b11000 == 0b11000 {
+                    if meta != 0b0010_0000 | (24 + s as u8) {
+                        return Err(format!("node {i}: child {s} is malformed"));
+                    }
+                    inner |= 1 << s;
+                } else {
+                    let count = match meta >> 5 {
+                        0b001 => 1,
+                        0b011 => 2,
+                        0b111 => 3,
+                        _ => return Err(format!("node {i}: leaf {s} is malformed")),
+                    };
+                    let end = n.primitive_base_idx as usize + (meta & 31) as usize + count;
+                    if (meta & 31) as usize + count > 24 || end > nprims {
+                        return Err(format!("node {i}: leaf {s} beyond the primitives"));
+                    }
+                }
+            }
+            if inner != n.imask {
+                return Err(format!("node {i}: inner children disagree with its mask"));
+            }
+            let k = inner.count_ones() as usize;
+            let base = n.child_base_idx as usize;
+            if k > 0 && (base <= i || base + k > cw.nodes.len()) {
+                return Err(format!("node {i}: children outside the node list"));
+            }
+        }
+        Ok(())
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geometry::Shape;
     use rand::{Rng, SeedableRng};
 
     /// Rotate about z by 30°, mirror x, scale 1.7, translate: a similarity as `xf` makes.
@@ -603,6 +1151,114 @@ mod tests {
                 other => other,
             })
             .collect()
+    }
+
+    #[test]
+    fn gathering_in_place_is_gathering() {
+        let mut rng = rand_pcg::Pcg64::seed_from_u64(11);
+        for n in [0usize, 1, 2, 7, 100, 1000] {
+            let mut from: Vec<u32> = (0..n as u32).collect();
+            for i in (1..n).rev() {
+                from.swap(i, rng.random_range(0..=i));
+            }
+            let v: Vec<u64> = (0..n as u64).map(|x| x * 7 + 1).collect();
+            let want: Vec<u64> = from.iter().map(|&k| v[k as usize]).collect();
+            let mut got = v.clone();
+            gather_in_place(&mut got, &from);
+            assert_eq!(got, want, "n {n}");
+        }
+        // Not a permutation: a plain gather.
+        let mut v = vec![1, 2, 3];
+        gather_in_place(&mut v, &[2, 2, 0]);
+        assert_eq!(v, [3, 3, 1]);
+    }
+
+    #[test]
+    fn built_bvhs_pass_the_file_checks_and_round_trip() {
+        use crate::formats::scene::compiled::{Decoder, Encoder};
+        let (fwd, inv, k) = transform();
+        let objs = |shapes: Vec<Shape>| -> Vec<Object> {
+            shapes
+                .into_iter()
+                .enumerate()
+                .map(|(i, shape)| Object {
+                    shape,
+                    id: i as u32,
+                })
+                .collect()
+        };
+        let shared = std::sync::Arc::new(Bvh::build(&objs(local_shapes())).unwrap());
+        let mut top_shapes = world_shapes(&fwd, k);
+        top_shapes.push(Shape::Cone {
+            p0: [0., 0., 0.],
+            p1: [0., 0., 1.],
+            r0: 0.5,
+            r1: 0.2,
+            inward: false,
+        });
+        top_shapes.push(Shape::Ring {
+            centre: [1., 1., 1.],
+            normal: [0., 0., 1.],
+            r_in: 0.1,
+            r_out: 0.3,
+        });
+        let placed = Placed {
+            bvh: shared,
+            fwd,
+            inv,
+            sca: k,
+            id_offset: 5,
+        };
+        let bvh = Bvh::build_placed(&objs(top_shapes), vec![placed]).unwrap();
+        let mut e = Encoder::default();
+        bvh.encode(&mut e);
+        let mut d = Decoder::new(&e.buf, 0, "t");
+        let back = Bvh::decode(&mut d, 8).unwrap();
+        d.finish().unwrap();
+        let mut again = Encoder::default();
+        back.encode(&mut again);
+        assert_eq!(again.buf, e.buf);
+        // Hits are the same, bit for bit.
+        let mut rng = rand_pcg::Pcg64::seed_from_u64(3);
+        for _ in 0..2000 {
+            let org = Vec3::new(
+                rng.random_range(-3.0..6.0),
+                rng.random_range(-4.0..4.0),
+                rng.random_range(-1.0..3.0),
+            );
+            let dir = Vec3::new(
+                rng.random_range(-1.0..1.0),
+                rng.random_range(-1.0..1.0),
+                rng.random_range(-1.0..1.0),
+            );
+            let ray = Ray::new(org, dir);
+            let (a, b) = (
+                bvh.intersect(&ray, 0.0, f64::INFINITY),
+                back.intersect(&ray, 0.0, f64::INFINITY),
+            );
+            assert_eq!(format!("{a:?}"), format!("{b:?}"));
+        }
+        // Too few surfaces for the ids: refused.
+        let mut d = Decoder::new(&e.buf, 0, "t");
+        assert!(Bvh::decode(&mut d, 7).is_err());
+        // Every prefix is an error; any byte changed is an error or a BVH that traces.
+        for n in 0..e.buf.len() {
+            let mut d = Decoder::new(&e.buf[..n], 0, "t");
+            assert!(
+                Bvh::decode(&mut d, 8).and_then(|_| d.finish()).is_err(),
+                "{n}"
+            );
+        }
+        for at in 0..e.buf.len() {
+            let mut b = e.buf.clone();
+            b[at] ^= 0x5a;
+            let mut d = Decoder::new(&b, 0, "t");
+            if let Ok(bvh) = Bvh::decode(&mut d, 8) {
+                let ray = Ray::new(Vec3::new(0.5, 0.5, 2.0), Vec3::new(0.1, 0.0, -1.0));
+                let _ = bvh.intersect(&ray, 0.0, f64::INFINITY);
+                let _ = bvh.occluded(&ray, 10.0);
+            }
+        }
     }
 
     #[test]

@@ -27,9 +27,9 @@ pub mod ray;
 pub mod shapes;
 pub mod triangulate;
 
-pub use bvh::{BuildError, Bvh, Placed};
+pub use bvh::{BuildError, Bvh, Placed, ShapeSource};
 pub use klems::{KlemsBasis, KlemsFrame, KlemsKind};
 pub use ray::{Hit, Ray, offset_distance};
 pub use rdaylight_base::vec3::{self, Vec3};
-pub use shapes::{Object, Shape, ShapeError};
-pub use triangulate::{PolygonError, polygon_area, triangulate};
+pub use shapes::{Object, Shape, ShapeError, ShapeRef};
+pub use triangulate::{PolygonError, polygon_area, triangulate, triangulate_into};

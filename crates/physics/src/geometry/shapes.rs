@@ -149,123 +149,95 @@ fn finite3(a: &[f64; 3]) -> bool {
     a.iter().all(|x| x.is_finite())
 }
 
+/// A shape borrowed for the BVH builder: the same cases as [`Shape`], a polygon's vertices
+/// as a flat slice of coordinates (`x0 y0 z0 x1 ...`), so that a scene held column-wise (a
+/// million polygons in one array) is read in place instead of copied into a `Vec` each.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum ShapeRef<'a> {
+    /// Flat coordinates, three per vertex.
+    Polygon(&'a [f64]),
+    Sphere {
+        centre: [f64; 3],
+        radius: f64,
+        inward: bool,
+    },
+    Cone {
+        p0: [f64; 3],
+        p1: [f64; 3],
+        r0: f64,
+        r1: f64,
+        inward: bool,
+    },
+    Cylinder {
+        p0: [f64; 3],
+        p1: [f64; 3],
+        r: f64,
+        inward: bool,
+    },
+    Ring {
+        centre: [f64; 3],
+        normal: [f64; 3],
+        r_in: f64,
+        r_out: f64,
+    },
+}
+
+/// The vertices of a flat coordinate slice (a trailing partial vertex is ignored; the
+/// scene's count rule makes it a multiple of 3).
+pub(crate) fn flat_vertices(flat: &[f64]) -> impl ExactSizeIterator<Item = Vec3> + '_ {
+    flat.chunks_exact(3).map(|c| Vec3::new(c[0], c[1], c[2]))
+}
+
 impl Shape {
-    /// Check the arguments (see the module documentation for what the converter fixes first).
-    pub fn validate(&self) -> Result<(), ShapeError> {
-        // Range first: triangulating or bounding a shape at 1e308 overflows to infinity.
-        out_of_range(self.arguments())?;
-        match self {
-            Shape::Polygon { vertices } => {
-                let v: Vec<Vec3> = vertices.iter().map(|&p| p.into()).collect();
-                super::triangulate::triangulate(&v)
-                    .map(|_| ())
-                    .map_err(ShapeError::Polygon)
-            }
-            Shape::Sphere { centre, radius, .. } => {
-                if !finite3(centre) || !radius.is_finite() {
-                    Err(ShapeError::NonFinite)
-                } else if *radius <= 0.0 {
-                    Err(ShapeError::IllegalRadius(*radius))
-                } else {
-                    Ok(())
-                }
-            }
-            Shape::Cone { p0, p1, r0, r1, .. } => {
-                if !finite3(p0) || !finite3(p1) || !r0.is_finite() || !r1.is_finite() {
-                    Err(ShapeError::NonFinite)
-                } else if *r0 < 0.0 || *r1 < 0.0 || (*r0 == 0.0 && *r1 == 0.0) {
-                    Err(ShapeError::IllegalRadii(*r0, *r1))
-                } else if p0 == p1 {
-                    Err(ShapeError::UnknownOrientation)
-                } else {
-                    Ok(())
-                }
-            }
-            Shape::Cylinder { p0, p1, r, .. } => {
-                if !finite3(p0) || !finite3(p1) || !r.is_finite() {
-                    Err(ShapeError::NonFinite)
-                } else if *r <= 0.0 {
-                    Err(ShapeError::IllegalRadius(*r))
-                } else if p0 == p1 {
-                    Err(ShapeError::UnknownOrientation)
-                } else {
-                    Ok(())
-                }
-            }
+    /// The borrowed form (no copy).
+    pub fn as_ref(&self) -> ShapeRef<'_> {
+        match *self {
+            Shape::Polygon { ref vertices } => ShapeRef::Polygon(vertices.as_flattened()),
+            Shape::Sphere {
+                centre,
+                radius,
+                inward,
+            } => ShapeRef::Sphere {
+                centre,
+                radius,
+                inward,
+            },
+            Shape::Cone {
+                p0,
+                p1,
+                r0,
+                r1,
+                inward,
+            } => ShapeRef::Cone {
+                p0,
+                p1,
+                r0,
+                r1,
+                inward,
+            },
+            Shape::Cylinder { p0, p1, r, inward } => ShapeRef::Cylinder { p0, p1, r, inward },
             Shape::Ring {
                 centre,
                 normal,
                 r_in,
                 r_out,
-            } => {
-                if !finite3(centre) || !finite3(normal) || !r_in.is_finite() || !r_out.is_finite() {
-                    Err(ShapeError::NonFinite)
-                } else if *r_in < 0.0 || *r_out < 0.0 || r_in == r_out {
-                    Err(ShapeError::IllegalRadii(*r_in, *r_out))
-                } else if Vec3::from(*normal).length_squared() == 0.0 {
-                    Err(ShapeError::UnknownOrientation)
-                } else {
-                    Ok(())
-                }
-            }
+            } => ShapeRef::Ring {
+                centre,
+                normal,
+                r_in,
+                r_out,
+            },
         }
     }
 
-    /// Every real argument (coordinates, radii, normal components), for range checks.
-    fn arguments(&self) -> Vec<f64> {
-        match self {
-            Shape::Polygon { vertices } => vertices.iter().flatten().copied().collect(),
-            Shape::Sphere { centre, radius, .. } => {
-                centre.iter().copied().chain([*radius]).collect()
-            }
-            Shape::Cone { p0, p1, r0, r1, .. } => {
-                p0.iter().chain(p1).copied().chain([*r0, *r1]).collect()
-            }
-            Shape::Cylinder { p0, p1, r, .. } => p0.iter().chain(p1).copied().chain([*r]).collect(),
-            Shape::Ring {
-                centre,
-                normal,
-                r_in,
-                r_out,
-            } => centre
-                .iter()
-                .chain(normal)
-                .copied()
-                .chain([*r_in, *r_out])
-                .collect(),
-        }
+    /// Check the arguments (see the module documentation for what the converter fixes first).
+    pub fn validate(&self) -> Result<(), ShapeError> {
+        self.as_ref().validate(&mut Vec::new())
     }
 
     /// Axis-aligned bounds `(min, max)` of a valid shape.
     pub fn bounds(&self) -> (Vec3, Vec3) {
-        match self {
-            Shape::Polygon { vertices } => {
-                let mut lo = Vec3::splat(f64::INFINITY);
-                let mut hi = Vec3::splat(f64::NEG_INFINITY);
-                for &p in vertices {
-                    lo = lo.min(p.into());
-                    hi = hi.max(p.into());
-                }
-                (lo, hi)
-            }
-            Shape::Sphere { centre, radius, .. } => {
-                let c = Vec3::from(*centre);
-                (c - Vec3::splat(*radius), c + Vec3::splat(*radius))
-            }
-            Shape::Cone { p0, p1, r0, r1, .. } => cone_bounds((*p0).into(), (*p1).into(), *r0, *r1),
-            Shape::Cylinder { p0, p1, r, .. } => cone_bounds((*p0).into(), (*p1).into(), *r, *r),
-            Shape::Ring {
-                centre,
-                normal,
-                r_in,
-                r_out,
-            } => {
-                let r = r_in.max(*r_out);
-                let e = disc_extent(Vec3::from(*normal).normalize(), r);
-                let c = Vec3::from(*centre);
-                (c - e, c + e)
-            }
-        }
+        self.as_ref().bounds()
     }
 
     /// Slow world-space reference intersection: nearest `t` in `(tmin, tmax)` and the front
@@ -275,9 +247,136 @@ impl Shape {
         match self {
             Shape::Polygon { vertices } => polygon_reference(vertices, ray, tmin, tmax),
             _ => {
-                let g = AnalyticGeom::new(self, Vec3::ZERO)?;
+                let g = AnalyticGeom::new(self.as_ref(), Vec3::ZERO)?;
                 let t = g.intersect(ray.org, ray.dir, tmin, tmax)?;
                 Some((t, g.normal(ray.at(t))))
+            }
+        }
+    }
+}
+
+impl ShapeRef<'_> {
+    /// Check the arguments, as [`Shape::validate`]; `scratch` holds a polygon's vertices
+    /// (reused between calls, so checking a million polygons allocates once).
+    pub fn validate(&self, scratch: &mut Vec<Vec3>) -> Result<(), ShapeError> {
+        // Range first: triangulating or bounding a shape at 1e308 overflows to infinity.
+        out_of_range(self.arguments())?;
+        match *self {
+            ShapeRef::Polygon(flat) => {
+                scratch.clear();
+                scratch.extend(flat_vertices(flat));
+                super::triangulate::check(scratch)
+                    .map(|_| ())
+                    .map_err(ShapeError::Polygon)
+            }
+            ShapeRef::Sphere { centre, radius, .. } => {
+                if !finite3(&centre) || !radius.is_finite() {
+                    Err(ShapeError::NonFinite)
+                } else if radius <= 0.0 {
+                    Err(ShapeError::IllegalRadius(radius))
+                } else {
+                    Ok(())
+                }
+            }
+            ShapeRef::Cone { p0, p1, r0, r1, .. } => {
+                if !finite3(&p0) || !finite3(&p1) || !r0.is_finite() || !r1.is_finite() {
+                    Err(ShapeError::NonFinite)
+                } else if r0 < 0.0 || r1 < 0.0 || (r0 == 0.0 && r1 == 0.0) {
+                    Err(ShapeError::IllegalRadii(r0, r1))
+                } else if p0 == p1 {
+                    Err(ShapeError::UnknownOrientation)
+                } else {
+                    Ok(())
+                }
+            }
+            ShapeRef::Cylinder { p0, p1, r, .. } => {
+                if !finite3(&p0) || !finite3(&p1) || !r.is_finite() {
+                    Err(ShapeError::NonFinite)
+                } else if r <= 0.0 {
+                    Err(ShapeError::IllegalRadius(r))
+                } else if p0 == p1 {
+                    Err(ShapeError::UnknownOrientation)
+                } else {
+                    Ok(())
+                }
+            }
+            ShapeRef::Ring {
+                centre,
+                normal,
+                r_in,
+                r_out,
+            } => {
+                if !finite3(&centre) || !finite3(&normal) || !r_in.is_finite() || !r_out.is_finite()
+                {
+                    Err(ShapeError::NonFinite)
+                } else if r_in < 0.0 || r_out < 0.0 || r_in == r_out {
+                    Err(ShapeError::IllegalRadii(r_in, r_out))
+                } else if Vec3::from(normal).length_squared() == 0.0 {
+                    Err(ShapeError::UnknownOrientation)
+                } else {
+                    Ok(())
+                }
+            }
+        }
+    }
+
+    /// Every real argument (coordinates, radii, normal components), for range checks.
+    fn arguments(&self) -> impl Iterator<Item = f64> + '_ {
+        let (flat, fixed): (&[f64], [f64; 8]) = match *self {
+            ShapeRef::Polygon(flat) => (flat, [0.0; 8]),
+            ShapeRef::Sphere { centre, radius, .. } => (
+                &[],
+                [centre[0], centre[1], centre[2], radius, 0.0, 0.0, 0.0, 0.0],
+            ),
+            ShapeRef::Cone { p0, p1, r0, r1, .. } => {
+                (&[], [p0[0], p0[1], p0[2], p1[0], p1[1], p1[2], r0, r1])
+            }
+            ShapeRef::Cylinder { p0, p1, r, .. } => {
+                (&[], [p0[0], p0[1], p0[2], p1[0], p1[1], p1[2], r, 0.0])
+            }
+            ShapeRef::Ring {
+                centre,
+                normal,
+                r_in,
+                r_out,
+            } => (
+                &[],
+                [
+                    centre[0], centre[1], centre[2], normal[0], normal[1], normal[2], r_in, r_out,
+                ],
+            ),
+        };
+        flat.iter().copied().chain(fixed)
+    }
+
+    /// Axis-aligned bounds `(min, max)` of a valid shape.
+    pub fn bounds(&self) -> (Vec3, Vec3) {
+        match *self {
+            ShapeRef::Polygon(flat) => {
+                let mut lo = Vec3::splat(f64::INFINITY);
+                let mut hi = Vec3::splat(f64::NEG_INFINITY);
+                for p in flat_vertices(flat) {
+                    lo = lo.min(p);
+                    hi = hi.max(p);
+                }
+                (lo, hi)
+            }
+            ShapeRef::Sphere { centre, radius, .. } => {
+                let c = Vec3::from(centre);
+                (c - Vec3::splat(radius), c + Vec3::splat(radius))
+            }
+            ShapeRef::Cone { p0, p1, r0, r1, .. } => cone_bounds(p0.into(), p1.into(), r0, r1),
+            ShapeRef::Cylinder { p0, p1, r, .. } => cone_bounds(p0.into(), p1.into(), r, r),
+            ShapeRef::Ring {
+                centre,
+                normal,
+                r_in,
+                r_out,
+            } => {
+                let r = r_in.max(r_out);
+                let e = disc_extent(Vec3::from(normal).normalize(), r);
+                let c = Vec3::from(centre);
+                (c - e, c + e)
             }
         }
     }
@@ -346,10 +445,10 @@ pub(crate) enum AnalyticGeom {
 
 impl AnalyticGeom {
     /// Prepared form of a valid non-polygon shape, shifted by `-centre`.
-    pub(crate) fn new(shape: &Shape, centre: Vec3) -> Option<Self> {
-        Some(match *shape {
-            Shape::Polygon { .. } => return None,
-            Shape::Sphere {
+    pub(crate) fn new(shape: ShapeRef<'_>, centre: Vec3) -> Option<Self> {
+        Some(match shape {
+            ShapeRef::Polygon(_) => return None,
+            ShapeRef::Sphere {
                 centre: c,
                 radius,
                 inward,
@@ -358,15 +457,15 @@ impl AnalyticGeom {
                 r: radius,
                 inward,
             },
-            Shape::Cone {
+            ShapeRef::Cone {
                 p0,
                 p1,
                 r0,
                 r1,
                 inward,
             } => Self::cone(p0, p1, r0, r1, inward, centre),
-            Shape::Cylinder { p0, p1, r, inward } => Self::cone(p0, p1, r, r, inward, centre),
-            Shape::Ring {
+            ShapeRef::Cylinder { p0, p1, r, inward } => Self::cone(p0, p1, r, r, inward, centre),
+            ShapeRef::Ring {
                 centre: c,
                 normal,
                 r_in,

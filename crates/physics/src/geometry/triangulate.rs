@@ -95,25 +95,19 @@ pub fn polygon_area(verts: &[Vec3]) -> f64 {
 
 /// Triangulate a polygon; see the module documentation. Returns index triples into `verts`.
 pub fn triangulate(verts: &[Vec3]) -> Result<Vec<[usize; 3]>, PolygonError> {
-    let n = verts.len();
-    if n < 3 {
-        return Err(PolygonError::TooFewVertices(n));
-    }
-    if let Some(i) = verts.iter().position(|v| !v.is_finite()) {
-        return Err(PolygonError::NonFinite(i));
-    }
-    let (lo, hi) = verts
-        .iter()
-        .fold((verts[0], verts[0]), |(lo, hi), &v| (lo.min(v), hi.max(v)));
-    let size = (hi - lo).max_elem();
-    let nrm = newell_normal(verts);
-    let area = nrm.length();
-    // `area` is finite here (finite vertices), so `<=` also covers the degenerate case.
-    if area <= 1e-12 * size * size {
-        return Err(PolygonError::ZeroArea { area });
-    }
-    if n == 3 {
-        return Ok(vec![[0, 1, 2]]);
+    let mut out = Vec::new();
+    triangulate_into(verts, &mut out)?;
+    Ok(out)
+}
+
+/// [`triangulate`] into `out` (cleared first), so a loop over a million polygons
+/// allocates once.
+pub fn triangulate_into(verts: &[Vec3], out: &mut Vec<[usize; 3]>) -> Result<(), PolygonError> {
+    out.clear();
+    let (size, nrm, area) = check(verts)?;
+    if verts.len() == 3 {
+        out.push([0, 1, 2]);
+        return Ok(());
     }
     let w = nrm / area;
     // Any unit vector perpendicular to w, then v = w × u so that u × v = w.
@@ -131,7 +125,32 @@ pub fn triangulate(verts: &[Vec3]) -> Result<Vec<[usize; 3]>, PolygonError> {
             [d.dot(u), d.dot(v)]
         })
         .collect();
-    Ok(EarClipper::new(pts, size).run())
+    out.extend(EarClipper::new(pts, size).run());
+    Ok(())
+}
+
+/// Whether [`triangulate`] succeeds (its only failures are these checks; ear clipping
+/// itself always ends), without building the triangles. Returns the largest
+/// bounding-box side, the Newell normal and its length (the area).
+pub fn check(verts: &[Vec3]) -> Result<(f64, Vec3, f64), PolygonError> {
+    let n = verts.len();
+    if n < 3 {
+        return Err(PolygonError::TooFewVertices(n));
+    }
+    if let Some(i) = verts.iter().position(|v| !v.is_finite()) {
+        return Err(PolygonError::NonFinite(i));
+    }
+    let (lo, hi) = verts
+        .iter()
+        .fold((verts[0], verts[0]), |(lo, hi), &v| (lo.min(v), hi.max(v)));
+    let size = (hi - lo).max_elem();
+    let nrm = newell_normal(verts);
+    let area = nrm.length();
+    // `area` is finite here (finite vertices), so `<=` also covers the degenerate case.
+    if area <= 1e-12 * size * size {
+        return Err(PolygonError::ZeroArea { area });
+    }
+    Ok((size, nrm, area))
 }
 
 /// Twice the signed area of the 2-D triangle `abc` (positive for a left turn).

@@ -858,7 +858,13 @@ pub fn main(run: &Run, flux: &Flux, progress: &dyn Progress) -> Result<()> {
     let setup = Setup::load(flux, &run.scene, &run.load)?;
     drop(stage);
     let stage = Stage::uncounted(progress, "compiling the scene");
-    let mut tracer = Tracer::build(&run.config, &setup.scene, Some(&run.scene), &run.command)?;
+    let compact = crate::scene::CompactScene::from_scene(&setup.scene)?;
+    let mut tracer = Tracer::build(
+        &run.config,
+        super::run::SceneInput::Compact(&compact),
+        Some(&run.scene),
+        &run.command,
+    )?;
     if setup.sender.is_some() {
         // rfluxmtx's sender rays fan out -ad ambient samples at their first diffuse hit
         // (the ground in front of a window, for a daylight matrix): so do ours.

@@ -29,9 +29,10 @@ use crate::geometry::vec3::normalized;
 use crate::material::ShadingOptions;
 use crate::progress::{Progress, QUIET, Stage};
 use crate::radiometry::{Channels, RGB_PHOTOPIC, luminance_rounded};
-use crate::scene::{LoadOptions, Scene};
+use crate::scene::{CompactScene, LoadOptions, Scene};
 use crate::sky::SkyPatches;
 use crate::trace::Renderable;
+use crate::trace::compiled::{self, CompiledScene};
 use crate::trace::reweight::{RowWriter, Signature};
 use rand::Rng as _;
 use rayon::prelude::*;
@@ -264,19 +265,25 @@ impl Tracer {
     /// Compile `scene` for `config` (validated first). Errors (unsupported primitives, bad
     /// settings, a point-in-time run without a sky) come with file:line before any input.
     pub fn new(config: &Config, scene: &Scene) -> Result<Tracer> {
-        Tracer::build(config, scene, None, &[])
+        let compact = CompactScene::from_scene(scene)?;
+        Tracer::build(config, SceneInput::Compact(&compact), None, &[])
+    }
+
+    /// [`Tracer::new`] for a compiled scene file ([`crate::trace::compiled`], `rdc
+    /// --compile`): the same records as for the scene it was compiled from.
+    pub fn from_compiled(config: &Config, scene: CompiledScene) -> Result<Tracer> {
+        Tracer::build(config, SceneInput::Compiled(Box::new(scene)), None, &[])
     }
 
     /// As [`Tracer::new`]; `names` (the scene's inputs) go into the no-sky error and
     /// `command` into the `--reweight` file's header.
     pub(crate) fn build(
         config: &Config,
-        scene: &Scene,
+        scene: SceneInput,
         names: Option<&[String]>,
         command: &[String],
     ) -> Result<Tracer> {
         config.validate(false)?;
-        scene.check_supported(intake::SUPPORTED)?;
         let sampling = config.sampling;
         let channels = config.channels;
         let t_start = std::time::Instant::now();
@@ -288,7 +295,14 @@ impl Tracer {
             uplift: config.uplift,
             ..ShadingOptions::rcontrib()
         };
-        let renderable = Renderable::compile(scene, &channels, &shading)?;
+        let renderable = match scene {
+            SceneInput::Compact(scene) => {
+                // The table's plain surfaces are all of supported types.
+                scene.rest.check_supported(intake::SUPPORTED)?;
+                Renderable::compile_compact(scene, &channels, &shading)?
+            }
+            SceneInput::Compiled(c) => Renderable::from_compiled(*c, &channels, &shading)?,
+        };
         let compile_time = t_start.elapsed();
         let nsurfaces = renderable.surface_count();
         let nprims = renderable.bvh().primitive_count();
@@ -305,7 +319,7 @@ impl Tracer {
             Target::Flux(_) => (None, None),
         };
         let tracking = match &config.reweight {
-            Some(r) => Some(renderable.tracking(scene, r.materials.as_deref())?),
+            Some(r) => Some(renderable.tracking(r.materials.as_deref())?),
             None => None,
         };
         let mut estimator = Traced::new(renderable, &sampling, sampling.ad);
@@ -448,6 +462,12 @@ impl Tracer {
     }
 }
 
+/// A scene for [`Tracer::build`]: loaded from `.rad` files, or a compiled scene.
+pub(crate) enum SceneInput<'a> {
+    Compact(&'a CompactScene),
+    Compiled(Box<CompiledScene>),
+}
+
 /// What the `rdc` tool does beyond the tracer's [`Config`]: where the scene and the
 /// records come from, and how results are written.
 #[derive(Debug, Clone)]
@@ -484,6 +504,11 @@ pub struct Run {
     pub shard: Option<Shard>,
     /// `--manifest FILE`: the shard's inputs, hashes, seed and version as JSON.
     pub manifest: Option<String>,
+    /// `--compile FILE`: write the scene compiled to FILE and stop (no records).
+    pub compile: Option<String>,
+    /// `--scene-cache DIR`: compiled scenes kept in DIR by their sources' hash, used when
+    /// the sources are unchanged ([`crate::trace::compiled`]).
+    pub scene_cache: Option<std::path::PathBuf>,
 }
 
 impl Run {
@@ -541,6 +566,50 @@ impl Run {
                 )));
             }
         }
+        if matches!(self.config.target, Target::Flux(_)) {
+            if self.compile.is_some() {
+                return Err(Error::Usage(
+                    "--compile with --flux: sender and receiver surfaces are read from .rad files each run; compile without --flux"
+                        .into(),
+                ));
+            }
+            if let Some(f) = self
+                .scene
+                .iter()
+                .find(|f| compiled::is_compiled_file(std::path::Path::new(f)))
+            {
+                return Err(Error::Usage(format!(
+                    "{f} is a compiled scene: --flux reads its sender, receivers and scene from .rad files; give those instead"
+                )));
+            }
+        }
+        if let Some(out) = &self.compile {
+            if self.scene.is_empty() {
+                return Err(Error::Usage(format!(
+                    "--compile {out}: give the scene files to compile"
+                )));
+            }
+            if let Some(f) = self
+                .scene
+                .iter()
+                .find(|f| compiled::is_compiled_file(std::path::Path::new(f)))
+            {
+                return Err(Error::Usage(format!(
+                    "--compile {out}: {f} is compiled already; give the .rad scene files"
+                )));
+            }
+            let refused = [
+                (self.view.is_some(), "view options"),
+                (self.shard.is_some(), "--shard"),
+                (self.se_out.is_some(), "--se-out"),
+                (self.picture_file.is_some(), "-o"),
+            ];
+            if let Some((_, what)) = refused.iter().find(|(on, _)| *on) {
+                return Err(Error::Usage(format!(
+                    "--compile writes a compiled scene and traces nothing: {what} has nothing to do"
+                )));
+            }
+        }
         if self.manifest.is_some() && self.shard.is_none() {
             return Err(Error::Usage(
                 "--manifest describes a shard: it needs --shard K/N (0/1 for a whole run)".into(),
@@ -565,16 +634,41 @@ pub fn main(run: &Run, progress: &dyn Progress) -> Result<()> {
     if let Target::Flux(flux) = &run.config.target {
         return super::flux::main(run, flux, progress);
     }
+    if let Some(out) = &run.compile {
+        let stage = Stage::uncounted(progress, "compiling the scene");
+        let scene = crate::scene::load_compact(&run.scene, &run.load)?;
+        compiled::compile(
+            std::path::Path::new(out),
+            &run.command.join(" "),
+            &run.scene,
+            &scene,
+        )?;
+        drop(stage);
+        return Ok(());
+    }
     // Scene first: its errors come before anything is read or written.
     let t_start = std::time::Instant::now();
     let stage = Stage::uncounted(progress, "loading the scene");
-    let scene = crate::scene::load(&run.scene, &run.load)?;
+    let loaded = load_scene(run)?;
     drop(stage);
     let load_time = t_start.elapsed();
     let stage = Stage::uncounted(progress, "compiling the scene");
-    let tracer = Tracer::build(&run.config, &scene, Some(&run.scene), &run.command)?;
+    let names = Some(run.scene.as_slice());
+    let tracer = match loaded {
+        Loaded::Compact(scene) => Tracer::build(
+            &run.config,
+            SceneInput::Compact(&scene),
+            names,
+            &run.command,
+        )?,
+        Loaded::Compiled(c) => Tracer::build(
+            &run.config,
+            SceneInput::Compiled(Box::new(c)),
+            names,
+            &run.command,
+        )?,
+    };
     drop(stage);
-    drop(scene);
     let channels = tracer.channels;
     let job = tracer.job();
     let pool = tracer.pool()?;
@@ -663,6 +757,46 @@ pub fn main(run: &Run, progress: &dyn Progress) -> Result<()> {
         );
     }
     result
+}
+
+/// A scene as `rdc` got it.
+enum Loaded {
+    Compact(CompactScene),
+    Compiled(CompiledScene),
+}
+
+/// The scene of a run: a compiled scene when it is the only input (refused when its
+/// sources changed); with `--scene-cache`, the cached compiled scene of unchanged sources
+/// (compiled and kept on a miss); else the `.rad` inputs, column-wise.
+fn load_scene(run: &Run) -> Result<Loaded> {
+    if let [only] = run.scene.as_slice() {
+        if compiled::is_compiled_file(std::path::Path::new(only)) {
+            let c = compiled::read(std::path::Path::new(only))?;
+            return Ok(Loaded::Compiled(c));
+        }
+    }
+    if let Some(dir) = &run.scene_cache {
+        if let Some(key) = compiled::cache_key(&run.scene)? {
+            let path = dir.join(format!("{key:016x}.rdb"));
+            // A damaged or outdated entry is compiled again.
+            if path.is_file() {
+                if let Ok(c) = compiled::read(&path) {
+                    return Ok(Loaded::Compiled(c));
+                }
+            }
+            let scene = crate::scene::load_compact(&run.scene, &run.load)?;
+            if scene.commands.is_empty() {
+                std::fs::create_dir_all(dir)
+                    .map_err(|e| Error::io(dir.display().to_string(), e))?;
+                let c = compiled::compile(&path, &run.command.join(" "), &run.scene, &scene)?;
+                return Ok(Loaded::Compiled(c));
+            }
+            return Ok(Loaded::Compact(scene));
+        }
+    }
+    Ok(Loaded::Compact(crate::scene::load_compact(
+        &run.scene, &run.load,
+    )?))
 }
 
 /// `scene`: the inputs' names as the user gave them (`None` for an in-memory scene).

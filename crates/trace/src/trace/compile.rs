@@ -39,14 +39,14 @@
 use super::sources::{DistantKind, DistantSource, SkyPattern, Sources};
 use crate::calc::pattern::{CalPatterns, PatternedMaterial, ScenePatterns, is_cal_pattern};
 use crate::error::{Error, Result};
-use crate::geometry::{Bvh, Object as GeoObject, Placed, Shape, Vec3};
+use crate::geometry::{Bvh, Placed, ShapeRef, ShapeSource, Vec3};
 use crate::material::spectrum::Sampled;
 use crate::material::{Color, Emitter, EmitterKind, Material, ShadingOptions};
 use crate::radiometry::Channels;
-use crate::scene::{Class, OType, Object, Primitive, Scene};
+use crate::scene::{Class, CompactScene, OType, Object, Primitive, Scene, SurfaceTable};
 
 /// One traced surface.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct SurfaceInfo {
     /// Index into [`Renderable::materials`].
     pub material: u32,
@@ -71,6 +71,9 @@ pub struct Renderable {
     pub(super) ncomp: usize,
     /// Window panes sampled by next-event estimation ([`super::portals`]).
     pub(super) portals: super::portals::Portals,
+    /// The vertices of the top-level glass polygons the portals were found from (a
+    /// compiled scene stores them: [`super::compiled`]).
+    pub(super) pane_polygons: Vec<Vec<[f64; 3]>>,
 }
 
 impl std::fmt::Debug for Renderable {
@@ -411,293 +414,608 @@ fn distant_source(
     )))
 }
 
-/// The shape of a surface primitive with Radiance's radius fix-ups; `None` for types that
-/// are not traced here (the caller reports them).
-fn shape_of(p: &Primitive) -> Option<Shape> {
-    Some(match p {
-        Primitive::Polygon { vertices } => Shape::Polygon {
-            vertices: vertices.clone(),
-        },
-        Primitive::Sphere {
-            center,
-            radius,
-            inward,
-        } => Shape::Sphere {
-            centre: *center,
-            radius: radius.abs(),
-            inward: *inward ^ (*radius < 0.0),
-        },
-        Primitive::Cylinder {
-            p0,
-            p1,
-            radius,
-            inward,
-        } => Shape::Cylinder {
-            p0: *p0,
-            p1: *p1,
-            r: radius.abs(),
-            inward: *inward ^ (*radius < 0.0),
-        },
-        Primitive::Cone {
-            p0,
-            p1,
-            r0,
-            r1,
-            inward,
-        } => {
-            let flip = *r0 <= 0.0 && *r1 <= 0.0 && (*r0 < 0.0 || *r1 < 0.0);
-            let (r0, r1) = if flip { (-r0, -r1) } else { (*r0, *r1) };
-            let inward = *inward ^ flip;
+/// The shape of a surface with Radiance's radius fix-ups (`otype` and its real arguments as
+/// written; `None` for types that are not traced here, the caller reports them).
+fn shape_of_args(otype: OType, r: &[f64]) -> Option<ShapeRef<'_>> {
+    let p = |k: usize| [r[k], r[k + 1], r[k + 2]];
+    let get = |n: usize| (r.len() >= n).then_some(());
+    Some(match otype {
+        OType::Polygon => ShapeRef::Polygon(r),
+        OType::Sphere | OType::Bubble => {
+            get(4)?;
+            ShapeRef::Sphere {
+                centre: p(0),
+                radius: r[3].abs(),
+                inward: (otype == OType::Bubble) ^ (r[3] < 0.0),
+            }
+        }
+        OType::Cylinder | OType::Tube => {
+            get(7)?;
+            ShapeRef::Cylinder {
+                p0: p(0),
+                p1: p(3),
+                r: r[6].abs(),
+                inward: (otype == OType::Tube) ^ (r[6] < 0.0),
+            }
+        }
+        OType::Cone | OType::Cup => {
+            get(8)?;
+            let (r0, r1) = (r[6], r[7]);
+            let flip = r0 <= 0.0 && r1 <= 0.0 && (r0 < 0.0 || r1 < 0.0);
+            let (r0, r1) = if flip { (-r0, -r1) } else { (r0, r1) };
+            let inward = (otype == OType::Cup) ^ flip;
             if r0 == r1 {
-                Shape::Cylinder {
-                    p0: *p0,
-                    p1: *p1,
+                ShapeRef::Cylinder {
+                    p0: p(0),
+                    p1: p(3),
                     r: r0,
                     inward,
                 }
             } else {
-                Shape::Cone {
-                    p0: *p0,
-                    p1: *p1,
+                ShapeRef::Cone {
+                    p0: p(0),
+                    p1: p(3),
                     r0,
                     r1,
                     inward,
                 }
             }
         }
+        OType::Ring => {
+            get(8)?;
+            ShapeRef::Ring {
+                centre: p(0),
+                normal: p(3),
+                r_in: r[6],
+                r_out: r[7],
+            }
+        }
+        _ => return None,
+    })
+}
+
+/// [`shape_of_args`] for a typed primitive (a polygon's vertices borrowed, not copied).
+fn shape_of(p: &Primitive) -> Option<ShapeRef<'_>> {
+    match p {
+        Primitive::Polygon { vertices } => Some(ShapeRef::Polygon(vertices.as_flattened())),
+        Primitive::Sphere {
+            center,
+            radius,
+            inward,
+        } => shape_of_args(
+            if *inward {
+                OType::Bubble
+            } else {
+                OType::Sphere
+            },
+            &[center[0], center[1], center[2], *radius],
+        )
+        .map(owned),
+        Primitive::Cylinder {
+            p0,
+            p1,
+            radius,
+            inward,
+        } => shape_of_args(
+            if *inward {
+                OType::Tube
+            } else {
+                OType::Cylinder
+            },
+            &[p0[0], p0[1], p0[2], p1[0], p1[1], p1[2], *radius],
+        )
+        .map(owned),
+        Primitive::Cone {
+            p0,
+            p1,
+            r0,
+            r1,
+            inward,
+        } => shape_of_args(
+            if *inward { OType::Cup } else { OType::Cone },
+            &[p0[0], p0[1], p0[2], p1[0], p1[1], p1[2], *r0, *r1],
+        )
+        .map(owned),
         Primitive::Ring {
             center,
             normal,
             r0,
             r1,
-        } => Shape::Ring {
-            centre: *center,
-            normal: *normal,
-            r_in: *r0,
-            r_out: *r1,
+        } => shape_of_args(
+            OType::Ring,
+            &[
+                center[0], center[1], center[2], normal[0], normal[1], normal[2], *r0, *r1,
+            ],
+        )
+        .map(owned),
+        _ => None,
+    }
+}
+
+/// An analytic shape no longer borrowing the arguments it was made from.
+fn owned(s: ShapeRef<'_>) -> ShapeRef<'static> {
+    match s {
+        ShapeRef::Polygon(_) => unreachable!("only analytic shapes are made from a local array"),
+        ShapeRef::Sphere {
+            centre,
+            radius,
+            inward,
+        } => ShapeRef::Sphere {
+            centre,
+            radius,
+            inward,
         },
-        _ => return None,
-    })
+        ShapeRef::Cone {
+            p0,
+            p1,
+            r0,
+            r1,
+            inward,
+        } => ShapeRef::Cone {
+            p0,
+            p1,
+            r0,
+            r1,
+            inward,
+        },
+        ShapeRef::Cylinder { p0, p1, r, inward } => ShapeRef::Cylinder { p0, p1, r, inward },
+        ShapeRef::Ring {
+            centre,
+            normal,
+            r_in,
+            r_out,
+        } => ShapeRef::Ring {
+            centre,
+            normal,
+            r_in,
+            r_out,
+        },
+    }
+}
+
+/// A surface as errors name it: type, id and `file:line`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SurfaceName {
+    pub otype: OType,
+    pub id: String,
+    pub loc: crate::error::Location,
+}
+
+impl SurfaceName {
+    fn of(o: &Object) -> SurfaceName {
+        SurfaceName {
+            otype: o.kind.otype(),
+            id: o.id.clone(),
+            loc: o.loc.clone(),
+        }
+    }
+}
+
+/// One material as surfaces use it: the material object and the patterns between a surface
+/// and it (indices into the scene the tracer compiled, after `mesh`/`instance` expansion),
+/// with the first surface that used it (errors name it). Slots are numbered in order of
+/// first use, as [`SurfaceInfo::material`] numbers materials.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Slot {
+    pub material: usize,
+    pub between: Vec<usize>,
+    pub first: SurfaceName,
+}
+
+/// What a BVH object is: table surface `k`, or object `k` of the expanded scene.
+#[derive(Debug, Clone, Copy)]
+enum GeoRef {
+    Table(u32),
+    Object(u32),
+}
+
+/// The BVH's view of the surfaces (shapes read in place, ids = positions).
+struct GeoSource<'a> {
+    table: &'a SurfaceTable,
+    scene: &'a Scene,
+    items: &'a [GeoRef],
+}
+
+impl GeoSource<'_> {
+    fn shape(&self, r: GeoRef) -> ShapeRef<'_> {
+        let s = match r {
+            GeoRef::Table(k) => {
+                let k = k as usize;
+                shape_of_args(self.table.otype(k), self.table.reals(k))
+            }
+            GeoRef::Object(k) => shape_of(&self.scene.objects[k as usize].kind),
+        };
+        s.expect("surfaces were checked while compiling")
+    }
+
+    fn name(&self, r: GeoRef) -> SurfaceName {
+        match r {
+            GeoRef::Table(k) => {
+                let s = self.table.get(k as usize);
+                SurfaceName {
+                    otype: s.otype,
+                    id: s.id.to_string(),
+                    loc: s.loc(),
+                }
+            }
+            GeoRef::Object(k) => SurfaceName::of(&self.scene.objects[k as usize]),
+        }
+    }
+}
+
+impl ShapeSource for GeoSource<'_> {
+    fn count(&self) -> usize {
+        self.items.len()
+    }
+    fn get(&self, i: usize) -> (ShapeRef<'_>, u32) {
+        (self.shape(self.items[i]), i as u32)
+    }
+}
+
+/// Materials as a run builds them (channels and shading options), slot by slot.
+pub(super) struct Shading<'s> {
+    scene: &'s Scene,
+    cal: ScenePatterns<'s>,
+    ch: Channels,
+    opts: ShadingOptions,
+    materials: Vec<Material>,
+    material_ids: Vec<String>,
+    patterned: Vec<Option<std::sync::Arc<PatternedMaterial>>>,
+}
+
+impl<'s> Shading<'s> {
+    pub(super) fn new(scene: &'s Scene, ch: &Channels, opts: &ShadingOptions) -> Self {
+        Shading {
+            scene,
+            cal: ScenePatterns::new(scene, ch),
+            ch: *ch,
+            opts: *opts,
+            materials: Vec::new(),
+            material_ids: Vec::new(),
+            patterned: Vec::new(),
+        }
+    }
+
+    /// Build the material of one slot (refusing what is not modelled, naming the slot's
+    /// first surface).
+    pub(super) fn add(&mut self, m: usize, between: &[usize], surface: &SurfaceName) -> Result<()> {
+        let (scene, cal, ch, opts) = (self.scene, &self.cal, &self.ch, &self.opts);
+        let unsupported_at = |o: &Object, what: String| Error::unsupported(o.loc.clone(), what);
+        // Ray-dependent function-file patterns are evaluated per hit; any other
+        // non-constant pattern or texture is refused.
+        let mut varying = Vec::new();
+        for k in between.iter().copied().chain(scene.patterns_of(m)) {
+            if is_spectral(cal, scene, k) {
+                continue;
+            }
+            let po = &scene.objects[k];
+            if is_cal_pattern(po) && !native_sky(po) {
+                varying.push(cal.get(k)?);
+                continue;
+            }
+            return Err(unsupported_at(
+                po,
+                format!(
+                    "{} '{}' modifying surface '{}' (patterns and textures are not modelled)",
+                    po.type_name(),
+                    po.id,
+                    surface.id
+                ),
+            ));
+        }
+        let mo = &scene.objects[m];
+        let pcol = spectral_color(
+            cal,
+            scene,
+            between.iter().copied().chain(scene.patterns_of(m)),
+            ch,
+        )?;
+        let mat = Material::build_patterned(&mo.kind, ch, opts, &mo.loc, &mo.id, pcol)?
+            .ok_or_else(|| {
+                unsupported(
+                    mo,
+                    format!("material '{}' of type {}", mo.id, mo.type_name()),
+                )
+            })?;
+        match &mat {
+            Material::Emitter(e) if e.is_direct_source(false) => {
+                return Err(unsupported(
+                    mo,
+                    format!(
+                        "local light source material '{}' ({}) on surface '{}': only distant sources (source primitives) and glow with maxrad <= 0 are traced",
+                        mo.id,
+                        mo.type_name(),
+                        surface.id
+                    ),
+                ));
+            }
+            Material::Emitter(e) if e.alternate().is_some() => {
+                return Err(unsupported(
+                    mo,
+                    format!("alternate material of illum '{}'", mo.id),
+                ));
+            }
+            Material::Mirror(mm) if mm.alternate.is_some() => {
+                return Err(unsupported(
+                    mo,
+                    format!("alternate material of mirror '{}'", mo.id),
+                ));
+            }
+            _ => {}
+        }
+        self.patterned.push((!varying.is_empty()).then(|| {
+            std::sync::Arc::new(PatternedMaterial::new(
+                mo,
+                pcol,
+                CalPatterns {
+                    list: varying,
+                    ch: *ch,
+                },
+                opts,
+                mat.clone(),
+            ))
+        }));
+        self.materials.push(mat);
+        self.material_ids.push(mo.id.clone());
+        Ok(())
+    }
+
+    /// A `source` object `i` of the scene (`index`: its position in the whole scene).
+    pub(super) fn source(&self, i: usize, index: usize, sources: &mut Sources) -> Result<()> {
+        let o = &self.scene.objects[i];
+        if let Primitive::Source { direction, angle } = &o.kind {
+            if let Some(mut s) = distant_source(
+                &self.cal, self.scene, i, o, *direction, *angle, &self.ch, &self.opts,
+            )? {
+                s.scene_index = index;
+                sources.list.push(s);
+            }
+        }
+        Ok(())
+    }
+
+    /// The materials, their scene names and their ray-dependent patterns, in slot order.
+    #[allow(clippy::type_complexity)]
+    pub(super) fn finish(
+        self,
+    ) -> (
+        Vec<Material>,
+        Vec<String>,
+        Vec<Option<std::sync::Arc<PatternedMaterial>>>,
+    ) {
+        (self.materials, self.material_ids, self.patterned)
+    }
 }
 
 impl Renderable {
     /// Compile a parsed scene for channels `ch` with shading options `opts` (use
     /// [`ShadingOptions::rcontrib`] for coefficients, [`ShadingOptions::rtrace`] for values).
     pub fn compile(scene: &Scene, ch: &Channels, opts: &ShadingOptions) -> Result<Renderable> {
+        Self::compile_compact(&CompactScene::from_scene(scene)?, ch, opts)
+    }
+
+    /// [`Renderable::compile`] for a scene loaded column-wise
+    /// ([`crate::scene::load_compact`]): the same result, with a fraction of the memory.
+    pub fn compile_compact(
+        scene: &CompactScene,
+        ch: &Channels,
+        opts: &ShadingOptions,
+    ) -> Result<Renderable> {
+        Ok(Self::compile_parts(scene, ch, opts, |_, _, _| {})?.0)
+    }
+
+    /// Compile, also giving `keep` the material slots, the expanded scene they index
+    /// (`mesh` and `instance` surfaces and materials appended) and the files the expansion
+    /// read: what a compiled scene file stores besides the renderable
+    /// ([`super::compiled`]).
+    pub(crate) fn compile_parts(
+        compact: &CompactScene,
+        ch: &Channels,
+        opts: &ShadingOptions,
+        keep: impl FnOnce(&Scene, &[Slot], &[std::path::PathBuf]),
+    ) -> Result<(Renderable, Vec<Slot>)> {
         // `mesh` and `instance` primitives: their files' surfaces are appended to a copy of
         // the scene as units (`super::expand`), each traced through one shared BVH placed by
         // every primitive that names it; the primitives themselves are skipped below.
-        let expanded = super::expand::expand(scene)?;
+        let expanded = super::expand::expand(&compact.rest)?;
         let scene: &Scene = &expanded.scene;
-        // Objects of the scene first, then each unit's (their shapes go to the unit's own
-        // BVH, in file coordinates; `unit_start[u]` is the unit's first surface).
-        let first_unit = expanded
-            .units
-            .first()
-            .map_or(scene.objects.len(), |u| u.objects.start);
-        let order = (0..first_unit).map(|i| (i, None)).chain(
-            expanded
-                .units
-                .iter()
-                .enumerate()
-                .flat_map(|(u, unit)| unit.objects.clone().map(move |i| (i, Some(u)))),
-        );
-        let mut unit_geo: Vec<Vec<GeoObject>> = vec![Vec::new(); expanded.units.len()];
-        let mut unit_start: Vec<Option<usize>> = vec![None; expanded.units.len()];
-        let mut geo: Vec<GeoObject> = Vec::new();
-        let mut surfaces = Vec::new();
-        let mut materials: Vec<Material> = Vec::new();
-        let mut material_ids: Vec<String> = Vec::new();
-        // (Scene index of a material, spectral patterns between surface and material) ->
-        // index in `materials`.
-        let mut mat_index: std::collections::HashMap<(usize, Vec<usize>), u32> = Default::default();
-        let mut patterned: Vec<Option<std::sync::Arc<PatternedMaterial>>> = Vec::new();
+        let table = &compact.surfaces;
+        let rest_len = compact.rest.objects.len();
+        let total = compact.len();
+        // Position in the whole scene of object `k` of the expanded scene (unit objects
+        // after every object of the scene, as if appended to it).
+        let index_of = |k: usize| match compact.rest_index.get(k) {
+            Some(&i) => i as usize,
+            None => total + (k - rest_len),
+        };
+        let mut shading = Shading::new(scene, ch, opts);
         let mut sources = Sources::default();
-        // Top-level glass polygons: candidate portals (`super::portals`).
-        let mut panes: Vec<super::portals::Portal> = Vec::new();
-        let cal = ScenePatterns::new(scene, ch);
-        for (i, unit) in order {
-            let o = &scene.objects[i];
-            if let Some(u) = unit {
-                unit_start[u].get_or_insert(surfaces.len());
-            }
-            match &o.kind {
-                Primitive::Source { direction, angle } => {
-                    if let Some(mut s) =
-                        distant_source(&cal, scene, i, o, *direction, *angle, ch, opts)?
-                    {
-                        s.scene_index = i;
-                        sources.list.push(s);
-                    }
-                    continue;
-                }
-                k if !k.is_surface() => continue,
-                Primitive::Instance { .. } | Primitive::Mesh { .. } => continue,
-                Primitive::Other { .. } => {
-                    return Err(unsupported(
-                        o,
-                        format!(
-                            "primitive type '{}' ('{}'); supported surfaces: polygon, sphere, bubble, cone, cup, cylinder, tube, ring, source, mesh, instance",
-                            o.type_name(),
-                            o.id
-                        ),
-                    ));
-                }
-                _ => {}
-            }
-            let Some(m) = scene.material_of(i) else {
-                continue; // void: transparent to every ray (see the module documentation)
+        // Top-level glass polygons: candidate portals (`super::portals`); more than
+        // MAX_PORTALS of them and none is used, so collecting stops one beyond.
+        let mut panes: Vec<Vec<[f64; 3]>> = Vec::new();
+        let mut surfaces: Vec<SurfaceInfo> = Vec::new();
+        let mut slots: Vec<Slot> = Vec::new();
+        let mut mat_index: std::collections::HashMap<(usize, Vec<usize>), u32> = Default::default();
+        // Per direct modifier: its slot, once known (most surfaces share a few modifiers,
+        // so the chain is walked once per modifier, not once per surface).
+        const UNSET: u32 = u32::MAX;
+        const NO_MATERIAL: u32 = u32::MAX - 1;
+        let mut memo: Vec<u32> = vec![UNSET; scene.objects.len()];
+        let mut slot_of = |direct: Option<usize>,
+                           name: &dyn Fn() -> SurfaceName,
+                           shading: &mut Shading|
+         -> Result<Option<u32>> {
+            let Some(d) = direct else {
+                return Ok(None);
             };
-            let between: Vec<usize> = scene.modifier_chain(i).take_while(|&k| k != m).collect();
-            // Ray-dependent function-file patterns are evaluated per hit; any other
-            // non-constant pattern or texture is refused.
-            let mut varying = Vec::new();
-            for k in between.iter().copied().chain(scene.patterns_of(m)) {
-                if is_spectral(&cal, scene, k) {
-                    continue;
-                }
-                let po = &scene.objects[k];
-                if is_cal_pattern(po) && !native_sky(po) {
-                    varying.push(cal.get(k)?);
-                    continue;
-                }
-                return Err(unsupported(
-                    po,
-                    format!(
-                        "{} '{}' modifying surface '{}' (patterns and textures are not modelled)",
-                        po.type_name(),
-                        po.id,
-                        o.id
-                    ),
-                ));
+            match memo[d] {
+                UNSET => {}
+                NO_MATERIAL => return Ok(None),
+                k => return Ok(Some(k)),
             }
+            let chain = || std::iter::once(d).chain(scene.modifier_chain(d));
+            let Some(m) = chain().find(|&k| scene.objects[k].class() == Class::Material) else {
+                // void: transparent to every ray (see the module documentation)
+                memo[d] = NO_MATERIAL;
+                return Ok(None);
+            };
+            let between: Vec<usize> = chain().take_while(|&k| k != m).collect();
             let key = (m, between);
-            let mi = match mat_index.get(&key) {
+            let k = match mat_index.get(&key) {
                 Some(&k) => k,
                 None => {
-                    let mo = &scene.objects[m];
-                    let pcol = spectral_color(
-                        &cal,
-                        scene,
-                        key.1.iter().copied().chain(scene.patterns_of(m)),
-                        ch,
-                    )?;
-                    let mat = Material::build_patterned(&mo.kind, ch, opts, &mo.loc, &mo.id, pcol)?
-                        .ok_or_else(|| {
-                            unsupported(
-                                mo,
-                                format!("material '{}' of type {}", mo.id, mo.type_name()),
-                            )
-                        })?;
-                    match &mat {
-                        Material::Emitter(e) if e.is_direct_source(false) => {
-                            return Err(unsupported(
-                                mo,
-                                format!(
-                                    "local light source material '{}' ({}) on surface '{}': only distant sources (source primitives) and glow with maxrad <= 0 are traced",
-                                    mo.id,
-                                    mo.type_name(),
-                                    o.id
-                                ),
-                            ));
-                        }
-                        Material::Emitter(e) if e.alternate().is_some() => {
-                            return Err(unsupported(
-                                mo,
-                                format!("alternate material of illum '{}'", mo.id),
-                            ));
-                        }
-                        Material::Mirror(mm) if mm.alternate.is_some() => {
-                            return Err(unsupported(
-                                mo,
-                                format!("alternate material of mirror '{}'", mo.id),
-                            ));
-                        }
-                        _ => {}
-                    }
-                    let k = materials.len() as u32;
-                    patterned.push((!varying.is_empty()).then(|| {
-                        std::sync::Arc::new(PatternedMaterial::new(
-                            mo,
-                            pcol,
-                            CalPatterns {
-                                list: varying,
-                                ch: *ch,
-                            },
-                            opts,
-                            mat.clone(),
-                        ))
-                    }));
-                    materials.push(mat);
-                    material_ids.push(mo.id.clone());
+                    let first = name();
+                    shading.add(m, &key.1, &first)?;
+                    let k = slots.len() as u32;
+                    slots.push(Slot {
+                        material: m,
+                        between: key.1.clone(),
+                        first,
+                    });
                     mat_index.insert(key, k);
                     k
                 }
             };
-            let shape = shape_of(&o.kind).ok_or_else(|| {
-                unsupported(
-                    o,
-                    format!("primitive type '{}' ('{}')", o.type_name(), o.id),
+            memo[d] = k;
+            Ok(Some(k))
+        };
+        // The objects of the scene in order, then each unit's (their shapes go to the
+        // unit's own BVH, in file coordinates).
+        let mut top: Vec<GeoRef> = Vec::new();
+        let mut unit_items: Vec<Vec<GeoRef>> = vec![Vec::new(); expanded.units.len()];
+        let mut unit_start: Vec<usize> = vec![0; expanded.units.len()];
+        let mut scratch = Vec::new();
+        let units = expanded
+            .units
+            .iter()
+            .enumerate()
+            .flat_map(|(u, unit)| unit.objects.clone().map(move |k| (Ok(k), Some(u))));
+        for (item, unit) in compact.order().map(|x| (x, None)).chain(units) {
+            if let Some(u) = unit {
+                if unit_items[u].is_empty() {
+                    unit_start[u] = surfaces.len();
+                }
+            }
+            let (geo, direct, otype, shape, index) = match item {
+                Err(t) => {
+                    let direct = table.modifier(t);
+                    let otype = table.otype(t);
+                    (
+                        GeoRef::Table(t as u32),
+                        direct,
+                        otype,
+                        shape_of_args(otype, table.reals(t)),
+                        table.index(t),
+                    )
+                }
+                Ok(k) => {
+                    let o = &scene.objects[k];
+                    match &o.kind {
+                        Primitive::Source { .. } => {
+                            shading.source(k, index_of(k), &mut sources)?;
+                            continue;
+                        }
+                        kind if !kind.is_surface() => continue,
+                        Primitive::Instance { .. } | Primitive::Mesh { .. } => continue,
+                        Primitive::Other { .. } => {
+                            return Err(unsupported(
+                                o,
+                                format!(
+                                    "primitive type '{}' ('{}'); supported surfaces: polygon, sphere, bubble, cone, cup, cylinder, tube, ring, source, mesh, instance",
+                                    o.type_name(),
+                                    o.id
+                                ),
+                            ));
+                        }
+                        _ => {}
+                    }
+                    (
+                        GeoRef::Object(k as u32),
+                        o.modifier.filter(|&m| m < k),
+                        o.kind.otype(),
+                        shape_of(&o.kind),
+                        index_of(k),
+                    )
+                }
+            };
+            let geo_src = GeoSource {
+                table,
+                scene,
+                items: &[],
+            };
+            let name = || geo_src.name(geo);
+            let Some(mi) = slot_of(direct, &name, &mut shading)? else {
+                continue; // void: transparent to every ray (see the module documentation)
+            };
+            let shape = shape.ok_or_else(|| {
+                let n = name();
+                Error::unsupported(
+                    n.loc,
+                    format!("primitive type '{}' ('{}')", n.otype.name(), n.id),
                 )
             })?;
-            shape.validate().map_err(|e| {
-                Error::parse(o.loc.clone(), format!("{} '{}': {e}", o.type_name(), o.id))
+            shape.validate(&mut scratch).map_err(|e| {
+                let n = name();
+                Error::parse(n.loc, format!("{} '{}': {e}", n.otype.name(), n.id))
             })?;
-            let flat = matches!(shape, Shape::Polygon { .. } | Shape::Ring { .. });
-            if let (None, Shape::Polygon { vertices }, Material::Glass(_)) =
-                (unit, &shape, &materials[mi as usize])
+            if let (None, ShapeRef::Polygon(flat), Material::Glass(_)) =
+                (unit, &shape, &shading.materials[mi as usize])
             {
                 if panes.len() <= super::portals::MAX_PORTALS {
-                    panes.extend(super::portals::Portal::new(vertices));
+                    panes.push(flat.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect());
                 }
             }
             match unit {
-                None => geo.push(GeoObject {
-                    shape,
-                    id: surfaces.len() as u32,
-                }),
-                Some(u) => {
-                    let start = unit_start[u].unwrap_or(0);
-                    unit_geo[u].push(GeoObject {
-                        shape,
-                        id: (surfaces.len() - start) as u32,
-                    });
-                }
+                None => top.push(geo),
+                Some(u) => unit_items[u].push(geo),
             }
             surfaces.push(SurfaceInfo {
                 material: mi,
-                flat,
-                scene_index: i as u32,
+                flat: matches!(otype, OType::Polygon | OType::Ring),
+                scene_index: index as u32,
             });
         }
-        let build_error = |e: crate::geometry::BuildError, start: usize| {
-            let o = &scene.objects[surfaces[start + e.index].scene_index as usize];
-            Error::parse(
-                o.loc.clone(),
-                format!("{} '{}': {}", o.type_name(), o.id, e.error),
-            )
+        let build_error = |e: crate::geometry::BuildError, items: &[GeoRef]| {
+            let n = GeoSource {
+                table,
+                scene,
+                items,
+            }
+            .name(items[e.index]);
+            Error::parse(n.loc, format!("{} '{}': {}", n.otype.name(), n.id, e.error))
         };
         // One shared BVH per unit; every placement refers to it through its transform.
-        let mut unit_bvh = Vec::with_capacity(unit_geo.len());
-        for (u, g) in unit_geo.iter().enumerate() {
-            let start = unit_start[u].unwrap_or(0);
+        let mut unit_bvh = Vec::with_capacity(unit_items.len());
+        for items in &unit_items {
+            let src = GeoSource {
+                table,
+                scene,
+                items,
+            };
             unit_bvh.push(std::sync::Arc::new(
-                Bvh::build(g).map_err(|e| build_error(e, start))?,
+                Bvh::build_source(&src, Vec::new(), false).map_err(|e| build_error(e, items))?,
             ));
         }
         let placed = expanded
             .placements
             .iter()
-            .filter(|p| !unit_geo[p.unit].is_empty())
+            .filter(|p| !unit_items[p.unit].is_empty())
             .map(|p| Placed {
                 bvh: unit_bvh[p.unit].clone(),
                 fwd: p.xf.m,
                 inv: p.xf.inverse().m,
                 sca: p.xf.sca,
-                id_offset: unit_start[p.unit].unwrap_or(0) as u32,
+                id_offset: unit_start[p.unit] as u32,
             })
             .collect();
-        let bvh = Bvh::build_placed(&geo, placed).map_err(|e| build_error(e, 0))?;
+        let src = GeoSource {
+            table,
+            scene,
+            items: &top,
+        };
+        let bvh = Bvh::build_source(&src, placed, false).map_err(|e| build_error(e, &top))?;
+        keep(scene, &slots, &expanded.files);
+        let (materials, material_ids, patterned) = shading.finish();
         let mut r = Renderable {
             bvh,
             surfaces,
@@ -707,9 +1025,20 @@ impl Renderable {
             sources,
             ncomp: ch.ncomp.max(1),
             portals: Default::default(),
+            pane_polygons: Vec::new(),
         };
-        r.portals = r.find_portals(panes);
-        Ok(r)
+        r.set_panes(panes);
+        Ok((r, slots))
+    }
+
+    /// Find the portals among the glass polygons `panes` (vertex lists) and keep both.
+    pub(super) fn set_panes(&mut self, panes: Vec<Vec<[f64; 3]>>) {
+        let list = panes
+            .iter()
+            .filter_map(|v| super::portals::Portal::new(v))
+            .collect();
+        self.portals = self.find_portals(list);
+        self.pane_polygons = panes;
     }
 
     /// Number of window panes sampled as portals ([`super::portals`]).

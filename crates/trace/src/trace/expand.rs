@@ -57,6 +57,7 @@ pub fn expand(scene: &Scene) -> Result<Expanded<'_>> {
             scene: Cow::Borrowed(scene),
             units: Vec::new(),
             placements: Vec::new(),
+            files: Vec::new(),
         });
     }
     let mut ex = Expander {
@@ -69,6 +70,7 @@ pub fn expand(scene: &Scene) -> Result<Expanded<'_>> {
         objs: HashMap::new(),
         octrees: HashMap::new(),
         mesh_materials: HashMap::new(),
+        files: Vec::new(),
     };
     for (i, o) in scene.objects.iter().enumerate() {
         let before = &scene.objects[..i];
@@ -84,6 +86,7 @@ pub fn expand(scene: &Scene) -> Result<Expanded<'_>> {
         scene: Cow::Owned(ex.out),
         units: ex.units,
         placements: ex.placements,
+        files: ex.files,
     })
 }
 
@@ -111,6 +114,9 @@ pub struct Expanded<'a> {
     pub scene: Cow<'a, Scene>,
     pub units: Vec<Unit>,
     pub placements: Vec<Placement>,
+    /// The files read (meshes, `.obj` files, octrees and the scene files they name), each
+    /// once, in the order read.
+    pub files: Vec<PathBuf>,
 }
 
 struct Expander {
@@ -126,6 +132,7 @@ struct Expander {
     octrees: HashMap<PathBuf, Arc<Vec<Object>>>,
     /// Where a mesh file's materials were appended (offset into `out.objects`).
     mesh_materials: HashMap<PathBuf, usize>,
+    files: Vec<PathBuf>,
 }
 
 fn locate(file: &str, loc: &Location, what: &str, id: &str) -> Result<PathBuf> {
@@ -304,6 +311,7 @@ impl Expander {
                 Some(m) => m.clone(),
                 None => {
                     let m = Arc::new(read_obj(&path)?);
+                    self.files.push(path.clone());
                     self.objs.insert(path.clone(), m.clone());
                     m
                 }
@@ -333,6 +341,7 @@ impl Expander {
             Some(m) => m.clone(),
             None => {
                 let m = Arc::new(read_mesh(&path)?);
+                self.files.push(path.clone());
                 self.meshes.insert(path.clone(), m.clone());
                 m
             }
@@ -399,9 +408,16 @@ impl Expander {
                                 }
                             })
                             .collect();
+                        self.files.extend(
+                            inputs
+                                .iter()
+                                .filter(|f| !f.starts_with('!') && *f != "-")
+                                .map(PathBuf::from),
+                        );
                         crate::scene::load(&inputs, &LoadOptions::from_env())?.objects
                     }
                 });
+                self.files.push(path.clone());
                 self.octrees.insert(path.clone(), s.clone());
                 s
             }

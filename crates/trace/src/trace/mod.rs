@@ -9,6 +9,7 @@
 //! | module | concept |
 //! |---|---|
 //! | [`compile`] | [`Renderable::compile`]: parsed scene -> shapes, materials, BVH, distant sources |
+//! | [`compiled`] | compiled scene files (`rdc --compile`): the geometry as built, read back for later runs |
 //! | [`expand`] | `mesh` (compiled mesh or `.obj`) and `instance` (octree) primitives flattened into surfaces, materials resolved as Radiance does |
 //! | [`reweight`] | path re-weighting records: coefficients as polynomials in material reflectances, their file and [`reweight::Reweighting::apply`] |
 //! | [`sources`] | distant `source`s: the sun (`light`), glow skies with `skybright.cal` / `perezlum.cal` patterns, Radiance's `sourcehit` |
@@ -40,6 +41,7 @@
 //! ```
 
 pub mod compile;
+pub mod compiled;
 pub mod expand;
 pub mod integrator;
 pub mod portals;

@@ -97,7 +97,6 @@ use super::compile::Renderable;
 use crate::error::{Error, Location, Result};
 use crate::material::ward::WardKind;
 use crate::material::{Material, SampleKind};
-use crate::scene::Scene;
 use std::collections::HashMap;
 use std::io::Write;
 
@@ -252,19 +251,18 @@ fn scalable(m: &Material) -> bool {
 }
 
 impl Renderable {
-    /// The scene name (`id`) of each renderable material, from the scene it was compiled
-    /// from (materials no surface uses are not renderable).
-    pub fn material_names(&self, _scene: &Scene) -> Vec<String> {
-        // Recorded at compile time: surfaces of flattened meshes and instances are not
-        // objects of the caller's scene.
+    /// The scene name (`id`) of each renderable material, recorded when the scene was
+    /// compiled (materials no surface uses are not renderable; surfaces of flattened
+    /// meshes and instances are not objects of the caller's scene).
+    pub fn material_names(&self) -> Vec<String> {
         self.material_ids.clone()
     }
 
     /// Tracking for re-weighting: the named materials (`None`: every plastic, metal, trans,
     /// glass and mirror of the scene, in order of first use). Materials that share a name
     /// share a factor. An unknown name is an error listing the known ones.
-    pub fn tracking(&self, scene: &Scene, names: Option<&[String]>) -> Result<Tracking> {
-        let all = self.material_names(scene);
+    pub fn tracking(&self, names: Option<&[String]>) -> Result<Tracking> {
+        let all = self.material_names();
         let mut tracked: Vec<String> = Vec::new();
         match names {
             Some(list) => {
