@@ -5,7 +5,7 @@
 //! matrix of `make` (5186 suns x 8760 hours) and a dense MF 4 sky (2306 x 8760, where
 //! dctimestep peaks at 254 MB and rmtx holding the sky 287 MB; `benches/memory.sh`).
 //!
-//! Peak memory is the children's maximum resident set (`getrusage(RUSAGE_CHILDREN)`),
+//! Peak memory is the measured program's own maximum resident set (see `run_measured`),
 //! deterministic for a given input, unlike time: no timed test here.
 
 use crate::common;
@@ -112,45 +112,42 @@ fn outer_order_gives_the_held_orders_bytes() {
     }
 }
 
-/// Run `cmd` (stdin closed) and return its output and its own peak resident set in MB,
-/// from `wait4` on that child: the tests of this binary run in one process, so the
-/// process-wide `RUSAGE_CHILDREN` would also count other tests' children (`ru_maxrss` is
-/// KiB on Linux, bytes on macOS).
-// The child is reaped by `wait4` below, which also returns its resource usage.
-#[allow(clippy::zombie_processes)]
-fn run_measured(cmd: &mut std::process::Command) -> (std::process::Output, f64) {
-    use std::io::Read;
-    use std::os::unix::process::ExitStatusExt;
+/// Run `program args` (stdin closed) and return its output and its own peak resident set
+/// in MB. Not `wait4` on a child of this process: the child is spawned with the parent's
+/// address space (vfork) and Linux carries the old address space's high-water mark into
+/// the child's `ru_maxrss` at exec, so the test binary's own resident set (other tests'
+/// data, often over 150 MB) would be counted. A small Python process forks the program
+/// instead, then reports `wait4`'s figure for it alone (its old address space is
+/// Python's, about 10 MB) into a file.
+fn run_measured(program: &Path, args: &[String]) -> (std::process::Output, f64) {
     use std::process::Stdio;
-    let mut child = cmd
+    const WRAP: &str = "import os, sys\n\
+pid = os.fork()\n\
+if pid == 0:\n    os.execv(sys.argv[2], sys.argv[2:])\n\
+_, status, usage = os.wait4(pid, 0)\n\
+open(sys.argv[1], 'w').write(str(usage.ru_maxrss))\n\
+sys.exit(os.waitstatus_to_exitcode(status) & 255)\n";
+    let t = tmpdir();
+    let report = t.path().join("maxrss");
+    let out = std::process::Command::new("python3")
+        .arg("-c")
+        .arg(WRAP)
+        .arg(&report)
+        .arg(program)
+        .args(args)
         .stdin(Stdio::null())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("spawn");
-    let (mut so, mut se) = (child.stdout.take().unwrap(), child.stderr.take().unwrap());
-    let err = std::thread::spawn(move || {
-        let mut v = Vec::new();
-        se.read_to_end(&mut v).unwrap();
-        v
-    });
-    let mut stdout = Vec::new();
-    so.read_to_end(&mut stdout).unwrap();
-    let stderr = err.join().unwrap();
-    let mut status = 0;
-    let mut u: libc::rusage = unsafe { std::mem::zeroed() };
-    // SAFETY: wait4 on our own child's pid writes its status and one rusage struct.
-    let pid = unsafe { libc::wait4(child.id() as libc::pid_t, &mut status, 0, &mut u) };
-    assert_eq!(pid, child.id() as libc::pid_t, "wait4 failed");
+        .output()
+        .expect("python3 runs");
+    let maxrss: f64 = std::fs::read_to_string(&report)
+        .expect("the wrapper's report")
+        .trim()
+        .parse()
+        .expect("a number");
+    // ru_maxrss is KiB on Linux, bytes on macOS.
     let kib = if cfg!(target_os = "macos") {
-        u.ru_maxrss as f64 / 1024.0
+        maxrss / 1024.0
     } else {
-        u.ru_maxrss as f64
-    };
-    let out = std::process::Output {
-        status: std::process::ExitStatus::from_raw(status),
-        stdout,
-        stderr,
+        maxrss
     };
     (out, kib / 1024.0)
 }
@@ -166,15 +163,12 @@ fn the_main_jobs_products_stay_under_150_mb() {
     let (nsens, hours) = (165usize, 8760usize);
     let daytime = |h: usize| (7..19).contains(&(h % 24));
     let run_product = |left: &Path, right: &Path| -> (Vec<u8>, f64) {
-        let (out, peak) = run_measured(ours("rmtx").args([
-            "-ff",
-            "-c",
-            "47.4",
-            "119.9",
-            "11.6",
-            &path(left),
-            &path(right),
-        ]));
+        let args: Vec<String> = ["-ff", "-c", "47.4", "119.9", "11.6"]
+            .iter()
+            .map(|s| s.to_string())
+            .chain([path(left), path(right)])
+            .collect();
+        let (out, peak) = run_measured(Path::new(env!("CARGO_BIN_EXE_rmtx")), &args);
         assert!(
             out.status.success(),
             "{}",

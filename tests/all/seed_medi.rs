@@ -502,7 +502,8 @@ fn report(r: &Results) -> (String, f64, f64, f64) {
          {worst_j:.2} % (seed: 1.4-5.6 %, criterion < 6 %). Monte Carlo noise of the \
          absolute values: (a) traced with seed {SEED2} instead of {SEED} differs by up to \
          {noise:.2} % in m-EDI (the sun smeared over its MF 1 patch reaches the eye through \
-         diffuse bounces, without next-event estimation: a noisy estimator), but the \
+         diffuse bounces; the window panes are sampled as portals, but the eye sees the \
+         sunlit floor and walls, one random bounce away: a noisy estimator), but the \
          differences use the same paths for every variant: the basis difference changes by \
          at most {noise_diff:.2} percentage points between the two seeds.\n"
     );
