@@ -774,10 +774,10 @@ fn portals_change_noise_not_values() {
                 rows.iter()
                     .map(|r| {
                         let mut t = [0.0; 2];
-                        for p in 0..patches.len() {
+                        for (p, w) in sunny.iter().enumerate() {
                             let v: f64 = (0..3).map(|c| y[c] * r.values[p * 3 + c]).sum();
                             t[0] += v;
-                            t[1] += v * sunny[p];
+                            t[1] += v * w;
                         }
                         t
                     })

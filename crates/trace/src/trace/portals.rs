@@ -658,7 +658,8 @@ mod tests {
             }
             let ports = Portals::new(vec![a, b]);
             let at = ports.at(x, n).unwrap();
-            let strategies: Vec<(&str, Box<dyn Fn(Vec3) -> f64>)> = if rising {
+            type Density<'a> = Box<dyn Fn(Vec3) -> f64 + 'a>;
+            let strategies: Vec<(&str, Density)> = if rising {
                 vec![
                     ("sky", Box::new(|d| at.pdf(d))),
                     ("fall", Box::new(|d| at.fall_pdf(d))),
