@@ -39,7 +39,10 @@ pub struct ReflDelta {
 /// The last few evaluated combinations (a fit varies one effect while the others' scales
 /// stay put, so most predictions reuse one). A clone starts empty.
 #[derive(Debug, Default)]
-struct ReflMemo(std::sync::Mutex<Vec<(Vec<(usize, u64)>, std::sync::Arc<ReflDelta>)>>);
+struct ReflMemo(std::sync::Mutex<Vec<MemoEntry>>);
+
+/// One memoised combination: (class index, scale's bits) pairs and what they add.
+type MemoEntry = (Vec<(usize, u64)>, std::sync::Arc<ReflDelta>);
 
 impl Clone for ReflMemo {
     fn clone(&self) -> Self {
@@ -142,7 +145,8 @@ impl Model {
                 simulator.dc_records(scene, &room, &classes)?,
                 simulator.sun_records(scene, &room, &classes)?,
             ) {
-                let expect = |r: &ReflRecords, cols: usize| r.unscaled.len() == comps.nsens * cols * 3;
+                let expect =
+                    |r: &ReflRecords, cols: usize| r.unscaled.len() == comps.nsens * cols * 3;
                 if !expect(&sky, comps.npatch) || !expect(&sun, comps.nsteps) {
                     return Err(crate::error::Error::Mismatch(
                         "re-weighting records: unexpected size".into(),
@@ -369,7 +373,10 @@ impl Model {
 
 /// Lux of RGB irradiance (see [`super::simulate::LUX_RGB`]).
 fn lux_of(v: &[f64]) -> f64 {
-    v.iter().zip(super::simulate::LUX_RGB).map(|(a, b)| a * b).sum()
+    v.iter()
+        .zip(super::simulate::LUX_RGB)
+        .map(|(a, b)| a * b)
+        .sum()
 }
 
 /// Reinhart MF from a patch count (144 MF^2 + 2).

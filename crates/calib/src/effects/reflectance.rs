@@ -13,9 +13,7 @@ use crate::room::SurfaceClass;
 /// Best scale of `class` given the other effects; `None` when the model has no material of
 /// that class.
 pub fn fit(f: &Fitter, base: &[Effect], class: SurfaceClass) -> Option<Effect> {
-    if f.m.refl.as_ref().and_then(|r| r.index(class)).is_none() {
-        return None;
-    }
+    f.m.refl.as_ref().and_then(|r| r.index(class))?;
     let probe = Effect::Reflectance { class, scale: 1.0 };
     // The ground albedo varies far more (grass 0.1 .. snow 0.8) than interior finishes;
     // light reflected once by the ground is close to linear in it.
