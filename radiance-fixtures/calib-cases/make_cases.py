@@ -26,8 +26,9 @@ Usage: radiance-fixtures/calib-cases/make_cases.py [CASE ...]   (all cases by de
   SCENES_ONLY=1  rewrite model.rad, truth.rad and sensors.csv only (same geometry)
   OUT=DIR        write the cases there instead of beside this script
   AD=65536 AB=10 JOBS=2  sampling and parallel rtrace processes
-  REFINE_DIFF=0.012 MAX_REFINE=16  sensors whose two runs differ by more (RMS) are traced
-                again at up to 16 x AD (per-sensor -ad in case.json)
+  REFINE_DIFF=0.01 MAX_REFINE=64 REFINE_ROUNDS=2  sensors whose two runs differ by more
+                (RMS over the steps) are traced again at up to 64 x AD, measured again, up
+                to twice (per-sensor -ad and run difference in case.json)
   RADIANCE_BIN=/path/to/radiance/bin  optional; otherwise pip's pyradiance.
 About 4 CPU-minutes per case at the defaults.
 """
@@ -55,8 +56,9 @@ AB = int(os.environ.get("AB", "10"))
 JOBS = int(os.environ.get("JOBS", "2"))
 # Per-sensor refinement (see make_case): target RMS difference of the two runs, and the
 # largest factor on -ad it may use.
-REFINE_DIFF = float(os.environ.get("REFINE_DIFF", "0.012"))
-MAX_REFINE = int(os.environ.get("MAX_REFINE", "16"))
+REFINE_DIFF = float(os.environ.get("REFINE_DIFF", "0.01"))
+MAX_REFINE = int(os.environ.get("MAX_REFINE", "64"))
+REFINE_ROUNDS = int(os.environ.get("REFINE_ROUNDS", "2"))
 # -aa 0: pure Monte Carlo, no irradiance cache (its interpolation error is not random);
 # -lw below 1/AD so that roulette, not a weight cut, ends the paths.
 RTRACE = ["rtrace", "-h", "-I", "-ab", str(AB), "-ad", str(AD), "-aa", "0", "-as", "0", "-lw", "1e-6"]
@@ -497,41 +499,56 @@ def make_case(case, env, work):
     with ThreadPoolExecutor(JOBS) as pool:
         res = list(pool.map(one, range(len(steps))))
     # Sensors whose two runs differ by more than REFINE_DIFF (RMS over the steps) are traced
-    # again at AD x k, k = the power of 2 that brings the expected difference under it
-    # (Monte Carlo error ~ 1/sqrt(samples)), at most MAX_REFINE: the back of a deep room
-    # needs far more samples than the window row, and Radiance has no per-ray -ad.
+    # again, both runs, at the -ad that brings the expected difference under it (Monte
+    # Carlo error ~ 1/sqrt(samples); a multiple of AD, at most MAX_REFINE x AD, with a
+    # margin for the difference's own estimate from 18 steps), and measured again, for up
+    # to REFINE_ROUNDS rounds: the back of a deep room needs far more samples than the
+    # window row, and Radiance has no per-ray -ad.
     ad_of = [AD] * len(sens)
-    diffs = []
-    for i in range(len(sens)):
-        r = [(a - b) / (0.5 * (a + b)) for a, b in (res[k][i] for k in range(len(steps))) if a + b > 0]
-        diffs.append(math.sqrt(sum(x * x for x in r) / max(len(r), 1)))
-    for i, dv in enumerate(diffs):
-        if dv > REFINE_DIFF:
-            k = 1
-            while k < MAX_REFINE and dv / math.sqrt(k) > REFINE_DIFF:
-                k *= 2
-            ad_of[i] = AD * k
-    redo = [i for i in range(len(sens)) if ad_of[i] > AD]
 
-    def again(k):
-        out = {}
-        for i in redo:
-            cmd = RTRACE[:]
-            cmd[cmd.index("-ad") + 1] = str(ad_of[i])
-            line = pts.splitlines()[i] + "\n"
-            a = subprocess.run(cmd + [f"s{k}.oct"], cwd=wdir, env=env, input=line, text=True,
-                               capture_output=True, check=True).stdout.splitlines()[0]
-            b = subprocess.run(cmd + [f"s{k}.oct"], cwd=wdir, env=env, input=DUMMY + line,
-                               text=True, capture_output=True, check=True).stdout.splitlines()[1]
-            out[i] = (lux(a), lux(b))
-        print(f"{case['name']}: step {k + 1}/{len(steps)} refined ({len(redo)} sensors)", file=sys.stderr)
+    def differences():
+        out = []
+        for i in range(len(sens)):
+            r = [(a - b) / (0.5 * (a + b)) for a, b in (res[k][i] for k in range(len(steps)))
+                 if a + b > 0]
+            out.append(math.sqrt(sum(x * x for x in r) / max(len(r), 1)))
         return out
 
-    if redo:
+    for rnd in range(REFINE_ROUNDS):
+        diffs = differences()
+        redo = []
+        for i, dv in enumerate(diffs):
+            if dv > REFINE_DIFF and ad_of[i] < AD * MAX_REFINE:
+                want = ad_of[i] * 1.2 * (dv / REFINE_DIFF) ** 2
+                ad_of[i] = min(AD * MAX_REFINE, AD * math.ceil(want / AD))
+                redo.append(i)
+        if not redo:
+            break
+
+        def again(k):
+            found = {}
+            for i in redo:
+                cmd = RTRACE[:]
+                cmd[cmd.index("-ad") + 1] = str(ad_of[i])
+                line = pts.splitlines()[i] + "\n"
+                a = subprocess.run(cmd + [f"s{k}.oct"], cwd=wdir, env=env, input=line, text=True,
+                                   capture_output=True, check=True).stdout.splitlines()[0]
+                b = subprocess.run(cmd + [f"s{k}.oct"], cwd=wdir, env=env, input=DUMMY + line,
+                                   text=True, capture_output=True, check=True).stdout.splitlines()[1]
+                found[i] = (lux(a), lux(b))
+            print(f"{case['name']}: step {k + 1}/{len(steps)} refined, round {rnd + 1} "
+                  f"({len(redo)} sensors)", file=sys.stderr)
+            return found
+
         with ThreadPoolExecutor(JOBS) as pool:
             for k, found in enumerate(pool.map(again, range(len(steps)))):
                 for i, v in found.items():
                     res[k][i] = v
+    diffs = differences()
+    every = [(a - b) / (0.5 * (a + b)) for row in res for a, b in row if a + b > 0]
+    rms_all = math.sqrt(sum(x * x for x in every) / max(len(every), 1))
+    print(f"{case['name']}: runs differ {100 * rms_all:.2f} % RMS, worst sensor "
+          f"{100 * max(diffs):.2f} %", file=sys.stderr)
     rng = np.random.default_rng(1000 + case["seed"])
     cal = np.exp(rng.normal(0.0, SENSOR_SIGMA, len(sens)))
     tsv = ["month\tday\thour\tsensor\tlux_run1\tlux_run2"]
@@ -550,7 +567,9 @@ def make_case(case, env, work):
     meta = dict(name=case["name"], room=room, site=site, facing=case["facing"],
                 hidden=case["truth"], sensors=len(sens), steps=len(steps),
                 sampling=" ".join(RTRACE[1:]), ad_per_sensor=ad_of, sensor_sigma=SENSOR_SIGMA,
-                reading_sigma=READING_SIGMA, noise_seed=1000 + case["seed"])
+                reading_sigma=READING_SIGMA, noise_seed=1000 + case["seed"],
+                runs_differ_rms_per_sensor=[round(v, 5) for v in diffs],
+                runs_differ_rms_all=round(rms_all, 5))
     (out / "case.json").write_text(json.dumps(meta, indent=1) + "\n")
     fam = "+".join(t["effect"] for t in case["truth"]) or "nothing"
     return f"{case['name']}\t{case['room']}\t{case['site']}\t{case['facing']}\t{len(sens)}\t{len(steps)}\t{fam}"

@@ -25,6 +25,9 @@ use crate::scene::{Primitive, Scene};
 /// Distance of the modelled exterior obstruction from the windows (m): far enough that its
 /// altitude is the same from every sensor (a horizon profile, as the effect models it).
 pub const OBSTRUCTION_RADIUS: f64 = 300.0;
+/// Height of the bottom of the skyline's facets (m, model coordinates): below a ground at
+/// 0, so that no sky shows under them.
+pub const SKYLINE_BOTTOM: f64 = -0.5;
 /// Reflectance of added obstructions (a dull facade).
 pub const OBSTRUCTION_REFLECTANCE: f64 = 0.1;
 
@@ -172,7 +175,12 @@ pub fn apply(
                     let (a1, a2) = (start + step * i as f64, start + step * (i + 1) as f64);
                     let t = height(*alt);
                     // Clockwise in azimuth seen from above, so the normal faces the room.
-                    let v = vec![p(a1, -0.5), p(a2, -0.5), p(a2, t), p(a1, t)];
+                    let v = vec![
+                        p(a1, SKYLINE_BOTTOM),
+                        p(a2, SKYLINE_BOTTOM),
+                        p(a2, t),
+                        p(a1, t),
+                    ];
                     add(
                         &mut s,
                         &mut added,

@@ -5,7 +5,8 @@
 //! `rcalib compare`/`explain` on the same inputs traces nothing. The key is 64-bit FNV-1a
 //! (Fowler, Noll, Vo; IETF draft-eastlake-fnv) of those texts: stable across runs and Rust
 //! versions, unlike `std`'s hasher. A file is `RCALIBDC1`, the value count (u64 LE) and the
-//! values (f64 LE); anything else is treated as absent and recomputed.
+//! values (f64 LE); anything else is treated as absent and recomputed. Records that check
+//! their own format (re-weighting records) are stored as raw bytes ([`store_bytes`]).
 
 use std::path::{Path, PathBuf};
 
@@ -67,6 +68,29 @@ pub fn store(dir: &Path, key: u64, values: &[f64]) {
     let p = path(dir, key);
     let tmp = p.with_extension(format!("part{}", std::process::id()));
     if std::fs::write(&tmp, &bytes).is_ok() {
+        let _ = std::fs::rename(&tmp, &p);
+    }
+}
+
+/// Raw bytes stored under `key` ([`store_bytes`]), if the file is there.
+pub fn load_bytes(dir: &Path, key: u64) -> Option<Vec<u8>> {
+    let p = dir.join(format!("raw-{key:016x}.bin"));
+    let bytes = std::fs::read(&p).ok()?;
+    if let Ok(f) = std::fs::File::options().append(true).open(&p) {
+        let _ = f.set_modified(std::time::SystemTime::now());
+    }
+    Some(bytes)
+}
+
+/// Store raw bytes under `key` (a format that checks itself, such as re-weighting records;
+/// best effort, as [`store`]).
+pub fn store_bytes(dir: &Path, key: u64, bytes: &[u8]) {
+    if std::fs::create_dir_all(dir).is_err() {
+        return;
+    }
+    let p = dir.join(format!("raw-{key:016x}.bin"));
+    let tmp = p.with_extension(format!("part{}", std::process::id()));
+    if std::fs::write(&tmp, bytes).is_ok() {
         let _ = std::fs::rename(&tmp, &p);
     }
 }

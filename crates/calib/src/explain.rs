@@ -371,16 +371,25 @@ fn joint(
     if chosen.is_empty() {
         return (Vec::new(), plain);
     }
-    // Starting points of the candidate: as fitted, and for the glazing scale a grid (the
-    // kept effects re-fitted at each: a coordinate pass from the scale fitted on top of a
-    // skyline that already absorbed it stays where it is).
+    // Starting points of the candidate: as fitted, and for a scale (the glazing's, a
+    // surface class's reflectance) a grid, the kept effects re-fitted at each. A
+    // coordinate pass from the scale fitted on top of a kept effect that already absorbed
+    // it stays where it is: a skyline that rose to darken every hour leaves the glazing
+    // scale near 1, and so do walls darkened to 0.44 for walls at 0.6 and a ceiling at
+    // 0.75 (both lower the inter-reflected light; issue 22's surfaces-deep case).
     let mut starts = vec![e.clone()];
-    if matches!(e, Effect::Transmittance { .. }) {
-        starts.extend(
+    match e {
+        Effect::Transmittance { .. } => starts.extend(
             JOINT_SCALES
                 .iter()
                 .map(|&scale| Effect::Transmittance { scale }),
-        );
+        ),
+        Effect::Reflectance { class, .. } => starts.extend(
+            JOINT_REFLECTANCES
+                .iter()
+                .map(|&scale| Effect::Reflectance { class, scale }),
+        ),
+        _ => {}
     }
     let mut best: (Vec<Effect>, Candidate) = (chosen.to_vec(), plain);
     for start in starts {
@@ -406,6 +415,10 @@ fn joint(
 
 /// Glazing scales the joint test of [`joint`] starts from.
 const JOINT_SCALES: [f64; 3] = [0.6, 0.75, 0.9];
+
+/// Reflectance scales the joint test of [`joint`] starts from (finishes darker or lighter
+/// than modelled).
+const JOINT_REFLECTANCES: [f64; 5] = [0.6, 0.75, 0.9, 1.15, 1.3];
 
 /// Backward check after the kept effects were re-fitted given each other: an effect whose
 /// removal now raises the BIC by less than [`SIGNIFICANT`] is dropped (e.g. a floor scale

@@ -1,10 +1,10 @@
 //! # The model under calibration: components, sensitivities, observations, prediction
 //!
 //! [`Model`] holds what every fit needs: the [`Components`] of the model as given, the
-//! reflectance sensitivities (the light with each surface class's reflectance scaled by
-//! `1 ± DELTA`, combined by quadratic interpolation: the sky's from one traced run with path
-//! re-weighting records, the inter-reflected sun's from `Vsun` re-traced on the scaled
-//! scene with the same seeds), the room's windows, the skies and the observations.
+//! reflectance records (the sky coefficients and `Vsun` as exact polynomials in the surface
+//! classes' reflectances, from one traced run each with path re-weighting records, so any
+//! combination of class scales is evaluated from the same paths: [`Refl`]), the room's
+//! windows, the skies and the observations.
 //! [`Model::predict`] turns a list of effects into simulated illuminances for every
 //! observation in a fraction of a millisecond per hundred readings, which is what makes
 //! fitting interactive.
@@ -12,31 +12,61 @@
 use super::effects::{self, Effect};
 use super::measurements::Bound;
 use super::room::{Room, SurfaceClass};
-use super::simulate::{Components, Dcs, Simulator, StepSky};
+use super::simulate::{Components, Dcs, ReflRecords, Simulator, StepSky};
 use crate::error::Result;
 use crate::formats::sensors::Sensor;
 use crate::scene::Scene;
 use crate::sky::SkyPatches;
 
-/// Relative reflectance step of the re-weighted sensitivities.
-pub const DELTA: f64 = 0.5;
+/// The reflectance records of a model (see the module documentation): the classes they
+/// track, the sky coefficients' and `Vsun`'s records, and the changes already evaluated.
+#[derive(Debug, Clone)]
+pub struct Refl {
+    pub classes: Vec<SurfaceClass>,
+    pub sky: ReflRecords,
+    pub sun: ReflRecords,
+    memo: ReflMemo,
+}
 
-/// First and second derivatives (per unit of the scale factor) of the sky and
-/// inter-reflected-sun components with respect to one class's reflectance scale.
-#[derive(Debug, Clone, PartialEq)]
-pub struct ReflSens {
-    pub class: SurfaceClass,
-    pub d1_sky: Vec<f64>,
-    pub d2_sky: Vec<f64>,
-    pub d1_sun: Vec<f64>,
-    pub d2_sun: Vec<f64>,
+/// What a combination of class scales adds to the model's light: `[s][t][p]` sky (lux,
+/// before any exterior or window weight) and `[s][t]` inter-reflected sun.
+#[derive(Debug)]
+pub struct ReflDelta {
+    pub sky: Vec<f64>,
+    pub sun: Vec<f64>,
+}
+
+/// The last few evaluated combinations (a fit varies one effect while the others' scales
+/// stay put, so most predictions reuse one). A clone starts empty.
+#[derive(Debug, Default)]
+struct ReflMemo(std::sync::Mutex<Vec<MemoEntry>>);
+
+/// One memoised combination: (class index, scale's bits) pairs and what they add.
+type MemoEntry = (Vec<(usize, u64)>, std::sync::Arc<ReflDelta>);
+
+impl Clone for ReflMemo {
+    fn clone(&self) -> Self {
+        ReflMemo::default()
+    }
+}
+
+/// Combinations [`ReflMemo`] keeps.
+const MEMO: usize = 16;
+
+impl Refl {
+    /// Index of `class` among the tracked classes.
+    pub fn index(&self, class: SurfaceClass) -> Option<usize> {
+        self.classes.iter().position(|c| *c == class)
+    }
 }
 
 /// Everything the fits need.
 #[derive(Debug, Clone)]
 pub struct Model {
     pub comps: Components,
-    pub refl: Vec<ReflSens>,
+    /// Reflectance records (built with `reflectance`; `None` without, or when the room
+    /// has no tracked class).
+    pub refl: Option<Refl>,
     pub room: Room,
     pub sensors: Vec<Sensor>,
     pub skies: Vec<StepSky>,
@@ -88,13 +118,13 @@ pub struct Weights {
     pub tau: f64,
     /// Per sensor: reading / true illuminance.
     pub cal: Vec<f64>,
-    /// (index into [`Model::refl`], scale - 1).
+    /// (index into [`Refl::classes`], scale - 1).
     pub refl: Vec<(usize, f64)>,
 }
 
 impl Model {
-    /// Build from coefficients: the reflectance sensitivities of every class the room has
-    /// come from one re-weighted run (cached).
+    /// Build from coefficients: the reflectance records of every class the room has
+    /// come from one re-weighted run each for the sky and the sun (cached).
     #[allow(clippy::too_many_arguments)]
     pub fn build(
         simulator: &Simulator,
@@ -108,51 +138,26 @@ impl Model {
     ) -> Result<Model> {
         let comps = Components::new(dcs, &skies);
         let patches = SkyPatches::new(dcs_mf(dcs.npatch));
-        let mut refl = Vec::new();
+        let mut refl = None;
         if with_reflectance {
             let classes = room.classes();
-            // Sky: one traced run with path re-weighting records. The middle variant is
-            // that run's own (unscaled) coefficients, so the differences come from one set
-            // of paths even where the cached `total` was traced by another tracer version.
-            let (scaled, _none) =
-                simulator.dc_scaled(scene, &room, &classes, &[1.0 - DELTA, 1.0, 1.0 + DELTA])?;
-            // The inter-reflected sun: the sun paths re-weighted the same way (one run for
-            // every class), so its sensitivities are as free of Monte Carlo noise as the
-            // sky's.
-            let (sun_scaled, _) =
-                simulator.sun_scaled(scene, &room, &classes, &[1.0 - DELTA, 1.0, 1.0 + DELTA])?;
-            for ((&class, v), vs) in classes.iter().zip(scaled).zip(sun_scaled) {
-                let [lo, mid, hi]: [Vec<f64>; 3] = v.try_into().map_err(|_| {
-                    crate::error::Error::Mismatch("re-weighting: three variants expected".into())
-                })?;
-                let sky = |total: Vec<f64>| {
-                    Components::new(
-                        &Dcs {
-                            total,
-                            ..dcs.clone()
-                        },
-                        &skies,
-                    )
-                    .sky
-                };
-                let [vs_lo, vs_mid, vs_hi]: [Vec<f64>; 3] = vs.try_into().map_err(|_| {
-                    crate::error::Error::Mismatch("re-weighting: three variants expected".into())
-                })?;
-                let sun_ind = |sun_total: Vec<f64>| {
-                    Components::new(
-                        &Dcs {
-                            sun_total,
-                            ..dcs.clone()
-                        },
-                        &skies,
-                    )
-                    .sun_indirect
-                };
-                refl.push(sensitivity(
-                    class,
-                    (&sky(lo), &sky(mid), &sky(hi)),
-                    (&sun_ind(vs_lo), &sun_ind(vs_mid), &sun_ind(vs_hi)),
-                ));
+            if let (Some(sky), Some(sun)) = (
+                simulator.dc_records(scene, &room, &classes)?,
+                simulator.sun_records(scene, &room, &classes)?,
+            ) {
+                let expect =
+                    |r: &ReflRecords, cols: usize| r.unscaled.len() == comps.nsens * cols * 3;
+                if !expect(&sky, comps.npatch) || !expect(&sun, comps.nsteps) {
+                    return Err(crate::error::Error::Mismatch(
+                        "re-weighting records: unexpected size".into(),
+                    ));
+                }
+                refl = Some(Refl {
+                    classes,
+                    sky,
+                    sun,
+                    memo: ReflMemo::default(),
+                });
             }
         }
         Ok(Model {
@@ -230,7 +235,7 @@ impl Model {
             Effect::Obstruction { .. } => effects::obstruction::apply(e, self, w),
             Effect::Skyline { .. } => effects::skyline::apply(e, self, w),
             Effect::Reflectance { class, scale } => {
-                if let Some(i) = self.refl.iter().position(|r| r.class == *class) {
+                if let Some(i) = self.refl.as_ref().and_then(|r| r.index(*class)) {
                     w.refl.push((i, scale - 1.0));
                 }
                 // The sky's ground patch (gendaymtx: reflectance 0.2 times the
@@ -257,6 +262,7 @@ impl Model {
     pub fn parts(&self, w: &Weights) -> Vec<(f64, f64)> {
         let c = &self.comps;
         let (nt, np) = (c.nsteps, c.npatch);
+        let delta = self.refl_delta(&w.refl);
         self.obs
             .iter()
             .map(|o| {
@@ -265,11 +271,7 @@ impl Model {
                 let base = st * np;
                 let (mut ind, mut dir) = (0.0, 0.0);
                 for p in 0..np {
-                    let mut tot = c.sky[base + p];
-                    for &(i, dk) in &w.refl {
-                        let r = &self.refl[i];
-                        tot += r.d1_sky[base + p] * dk + r.d2_sky[base + p] * dk * dk;
-                    }
+                    let tot = c.sky[base + p] + delta.as_ref().map_or(0.0, |d| d.sky[base + p]);
                     let d = c.sky_direct[base + p];
                     let wd = w.win_dir.as_ref().map_or(1.0, |v| v[s * np + p]);
                     ind += w.patch[p] * w.win_ind[p] * (tot - d);
@@ -280,17 +282,62 @@ impl Model {
                         dir += w.patch[p] * f.dir[s * np + p] * r * d;
                     }
                 }
-                let mut si = c.sun_indirect[st];
-                for &(i, dk) in &w.refl {
-                    let r = &self.refl[i];
-                    si += r.d1_sun[st] * dk + r.d2_sun[st] * dk * dk;
-                }
+                let si = c.sun_indirect[st] + delta.as_ref().map_or(0.0, |d| d.sun[st]);
                 let swd = w.sun_win_dir.as_ref().map_or(1.0, |v| v[st]);
                 ind += w.sun[t] * w.sun_win_ind[t] * si;
                 dir += w.sun[t] * swd * c.sun_direct[st];
                 (ind, dir)
             })
             .collect()
+    }
+
+    /// What the class scales `refl` ((index into [`Refl::classes`], scale - 1)) add to the
+    /// sky and the inter-reflected sun, evaluated from the records (memoised); `None` when
+    /// nothing is scaled.
+    pub fn refl_delta(&self, refl: &[(usize, f64)]) -> Option<std::sync::Arc<ReflDelta>> {
+        let r = self.refl.as_ref()?;
+        let mut key: Vec<(usize, u64)> = refl
+            .iter()
+            .filter(|x| x.1 != 0.0)
+            .map(|&(i, dk)| (i, (1.0 + dk).to_bits()))
+            .collect();
+        if key.is_empty() {
+            return None;
+        }
+        key.sort_unstable();
+        if let Ok(m) = r.memo.0.lock()
+            && let Some((_, d)) = m.iter().find(|x| x.0 == key)
+        {
+            return Some(d.clone());
+        }
+        let scales: Vec<(SurfaceClass, f64)> = key
+            .iter()
+            .filter_map(|&(i, k)| Some((*r.classes.get(i)?, f64::from_bits(k))))
+            .collect();
+        let (ns, nt, np) = (self.nsens(), self.nsteps(), self.comps.npatch);
+        let dsky = r.sky.scaled_difference(&scales).ok()?;
+        let dsun = r.sun.scaled_difference(&scales).ok()?;
+        let mut sky = vec![0.0; ns * nt * np];
+        let mut sun = vec![0.0; ns * nt];
+        for s in 0..ns {
+            for (t, sk) in self.skies.iter().enumerate() {
+                let base = (s * nt + t) * np;
+                for p in 0..np {
+                    let dc = &dsky[(s * np + p) * 3..][..3];
+                    let l = &sk.sky[p * 3..][..3];
+                    sky[base + p] = lux_of(&[dc[0] * l[0], dc[1] * l[1], dc[2] * l[2]]);
+                }
+                sun[s * nt + t] = lux_of(&dsun[(s * nt + t) * 3..][..3]) * sk.sun_radiance;
+            }
+        }
+        let d = std::sync::Arc::new(ReflDelta { sky, sun });
+        if let Ok(mut m) = r.memo.0.lock() {
+            if m.len() >= MEMO {
+                m.remove(0);
+            }
+            m.push((key, d.clone()));
+        }
+        Some(d)
     }
 
     /// Simulated readings from parts and the per-sensor weights.
@@ -324,33 +371,12 @@ impl Model {
     }
 }
 
-/// First and second derivatives from values at `1 - DELTA`, 1 and `1 + DELTA` (quadratic
-/// interpolation), for the sky (per patch) and the inter-reflected sun.
-fn sensitivity(
-    class: SurfaceClass,
-    sky: (&[f64], &[f64], &[f64]),
-    sun: (&[f64], &[f64], &[f64]),
-) -> ReflSens {
-    let d1 = |a: &[f64], b: &[f64]| -> Vec<f64> {
-        a.iter()
-            .zip(b)
-            .map(|(l, h)| (h - l) / (2.0 * DELTA))
-            .collect()
-    };
-    let d2 = |a: &[f64], m: &[f64], b: &[f64]| -> Vec<f64> {
-        a.iter()
-            .zip(m)
-            .zip(b)
-            .map(|((l, m), h)| (h - 2.0 * m + l) / (2.0 * DELTA * DELTA))
-            .collect()
-    };
-    ReflSens {
-        class,
-        d1_sky: d1(sky.0, sky.2),
-        d2_sky: d2(sky.0, sky.1, sky.2),
-        d1_sun: d1(sun.0, sun.2),
-        d2_sun: d2(sun.0, sun.1, sun.2),
-    }
+/// Lux of RGB irradiance (see [`super::simulate::LUX_RGB`]).
+fn lux_of(v: &[f64]) -> f64 {
+    v.iter()
+        .zip(super::simulate::LUX_RGB)
+        .map(|(a, b)| a * b)
+        .sum()
 }
 
 /// Reinhart MF from a patch count (144 MF^2 + 2).

@@ -135,6 +135,10 @@ pub struct Room {
     /// ground): the share of a sky patch's light that reaches the windows off the ground,
     /// which an overhang does not block.
     pub ground_reflectance: f64,
+    /// The polygons of the exterior ground (ground-class materials): where a ray leaving a
+    /// window downwards meets the modelled ground rather than the sky's ground glow beyond
+    /// it, which a near exterior obstruction hides.
+    pub ground_polygons: Vec<Vec<[f64; 3]>>,
 }
 
 impl Room {
@@ -253,6 +257,20 @@ impl Room {
         } else {
             grounds.iter().sum::<f64>() / grounds.len() as f64
         };
+        let ground_polygons = scene
+            .surfaces()
+            .filter(|(i, _)| {
+                scene.material_of(*i).is_some_and(|m| {
+                    materials
+                        .iter()
+                        .any(|(id, c)| *c == SurfaceClass::Ground && *id == scene.objects[m].id)
+                })
+            })
+            .filter_map(|(_, o)| match &o.kind {
+                Primitive::Polygon { vertices } if vertices.len() >= 3 => Some(vertices.clone()),
+                _ => None,
+            })
+            .collect();
         Room {
             windows,
             outline,
@@ -261,7 +279,13 @@ impl Room {
             glass_index,
             floor,
             ground_reflectance,
+            ground_polygons,
         }
+    }
+
+    /// Whether the ray from `org` along `d` meets one of the [`Room::ground_polygons`].
+    pub fn meets_ground(&self, org: [f64; 3], d: [f64; 3]) -> bool {
+        self.ground_polygons.iter().any(|v| polygon_hit(v, org, d))
     }
 
     /// Classes that have at least one material.
@@ -406,6 +430,47 @@ pub fn scaled_scene(
         }
     }
     s
+}
+
+/// Whether the ray from `org` along `d` crosses the planar polygon `v` (Newell normal,
+/// then the crossing tested in the plane's dominant projection by the even-odd rule).
+fn polygon_hit(v: &[[f64; 3]], org: [f64; 3], d: [f64; 3]) -> bool {
+    let mut n = [0.0; 3];
+    for (k, a) in v.iter().enumerate() {
+        let b = v[(k + 1) % v.len()];
+        n[0] += (a[1] - b[1]) * (a[2] + b[2]);
+        n[1] += (a[2] - b[2]) * (a[0] + b[0]);
+        n[2] += (a[0] - b[0]) * (a[1] + b[1]);
+    }
+    let dn = dot(d, n);
+    if dn.abs() < 1e-12 {
+        return false;
+    }
+    let t = dot(sub(v[0], org), n) / dn;
+    if t <= 1e-9 {
+        return false;
+    }
+    let p = [org[0] + t * d[0], org[1] + t * d[1], org[2] + t * d[2]];
+    // Drop the axis the normal is largest along.
+    let ax = (0..3)
+        .max_by(|&a, &b| n[a].abs().total_cmp(&n[b].abs()))
+        .unwrap_or(2);
+    let (i, j) = match ax {
+        0 => (1, 2),
+        1 => (2, 0),
+        _ => (0, 1),
+    };
+    let mut inside = false;
+    for (k, a) in v.iter().enumerate() {
+        let b = v[(k + 1) % v.len()];
+        if (a[j] > p[j]) != (b[j] > p[j]) {
+            let x = a[i] + (p[j] - a[j]) / (b[j] - a[j]) * (b[i] - a[i]);
+            if p[i] < x {
+                inside = !inside;
+            }
+        }
+    }
+    inside
 }
 
 #[cfg(test)]

@@ -30,7 +30,8 @@
 //! them; bounces end by Russian roulette rather than at a small `-ab`. Against converged
 //! runs the model's values are within 1-2 % RMS (10 m deep room), below the 3-4 % of
 //! real sensors. Reflectance variants of both the sky coefficients and `Vsun` come from one
-//! re-weighted run each ([`Simulator::dc_scaled`], [`Simulator::sun_scaled`]).
+//! re-weighted run each, whose records make them exact polynomials in the classes'
+//! reflectances ([`Simulator::dc_records`], [`Simulator::sun_records`]).
 //!
 //! Coefficients are cached on disk ([`super::cache`]): a re-run traces nothing.
 
@@ -434,10 +435,6 @@ pub struct Dcs {
     pub sun_total: Vec<f64>,
 }
 
-/// Re-weighted sky coefficients: `[class][factor]` variants, and the variant with every
-/// tracked class black.
-pub type ScaledDcs = (Vec<Vec<Vec<f64>>>, Vec<f64>);
-
 /// What one traced run computes for every sensor.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Kind {
@@ -698,55 +695,48 @@ impl Simulator {
         Ok(v)
     }
 
-    /// Sky coefficients (all bounces) of `scene` with the reflectance of each class of
-    /// `classes` times each factor of `ks`, `out[class][k]`, from ONE traced run with
-    /// path re-weighting records ([`crate::trace::reweight`]): every variant reuses the
-    /// paths of the model as given (same seed and settings, so the all-ones variant is the
-    /// model's own `total`), which is exact for diffuse reflection and leaves the
-    /// differences between variants free of the Monte Carlo noise that separate re-traces
-    /// of each variant carry (their paths diverge at the first roulette decision). As
-    /// [`scaled_scene`], colours are capped at 0.95. Cached per (class, factor).
-    pub fn dc_scaled(
+    /// The path re-weighting records ([`crate::trace::reweight`]) of the sky coefficients
+    /// (all bounces) of `scene`, every material of `classes` tracked: the coefficients as
+    /// exact polynomials in those materials' reflectances, from ONE traced run (same seed
+    /// and settings as the model's). Any combination of class scales is then evaluated
+    /// from the same paths ([`ReflRecords::scaled`]): exact for diffuse reflection, and
+    /// the differences between variants are free of the Monte Carlo noise that separate
+    /// re-traces carry (their paths diverge at the first roulette decision). `None` when
+    /// no material of `classes` can be tracked. Cached.
+    pub fn dc_records(
         &self,
         scene: &Scene,
         room: &Room,
         classes: &[SurfaceClass],
-        ks: &[f64],
-    ) -> Result<ScaledDcs> {
-        let ncols = SkyPatches::new(self.settings.mf).len();
+    ) -> Result<Option<ReflRecords>> {
         let kind = Kind::rgb(What::Sky { direct_only: false });
-        self.scaled_runs(scene, room, classes, ks, &kind, ncols)
+        self.records(scene, room, classes, &kind)
     }
 
-    /// `Vsun` ([`Simulator::sun_total`]) with class reflectances scaled, as
-    /// [`Simulator::dc_scaled`] does for the sky: one re-weighted run of the sun paths.
-    pub fn sun_scaled(
+    /// `Vsun` ([`Simulator::sun_total`]) as re-weighting records, as
+    /// [`Simulator::dc_records`] for the sky.
+    pub fn sun_records(
         &self,
         scene: &Scene,
         room: &Room,
         classes: &[SurfaceClass],
-        ks: &[f64],
-    ) -> Result<ScaledDcs> {
-        self.scaled_runs(
+    ) -> Result<Option<ReflRecords>> {
+        self.records(
             scene,
             room,
             classes,
-            ks,
             &Kind::rgb(What::Suns { bounces: true }),
-            self.nsteps,
         )
     }
 
-    /// One re-weighted run of kind `kind` (`ncols` columns per sensor) and its variants.
-    fn scaled_runs(
+    /// One re-weighted run of kind `kind` and its records (cached as the records' file).
+    fn records(
         &self,
         scene: &Scene,
         room: &Room,
         classes: &[SurfaceClass],
-        ks: &[f64],
         kind: &Kind,
-        ncols: usize,
-    ) -> Result<ScaledDcs> {
+    ) -> Result<Option<ReflRecords>> {
         let text = scene.to_string();
         let kinds = kind.key(self.settings.mf);
         let suns = if kind.uses_suns() {
@@ -754,31 +744,10 @@ impl Simulator {
         } else {
             ""
         };
-        let variant_key = |c: SurfaceClass, k: f64| {
-            cache::key(&[
-                text.as_bytes(),
-                self.sensors_text.as_bytes(),
-                format!("{:?} {kinds} reweighted {c:?} x {k}", self.settings).as_bytes(),
-                suns.as_bytes(),
-            ])
-        };
-        if let Some(dir) = &self.cache {
-            let cached: Option<Vec<Vec<Vec<f64>>>> = classes
-                .iter()
-                .map(|&c| {
-                    ks.iter()
-                        .map(|&k| cache::load(dir, variant_key(c, k)))
-                        .collect()
-                })
-                .collect();
-            let none = cache::load(dir, variant_key(SurfaceClass::Ground, -1.0));
-            if let (Some(v), Some(n)) = (cached, none) {
-                return Ok((v, n));
-            }
-        }
-        // Every plastic/metal/trans of a class is tracked; its own colour decides the cap.
+        // Every plastic/metal/trans of a class is tracked, with its class and colour (the
+        // colour decides where a scaled reflectance is capped).
         let mut names: Vec<String> = Vec::new();
-        let mut caps: Vec<(SurfaceClass, f64)> = Vec::new();
+        let mut materials: Vec<(SurfaceClass, [f64; 3])> = Vec::new();
         for o in &scene.objects {
             let Some(&(_, class)) = room.materials.iter().find(|m| m.0 == o.id) else {
                 continue;
@@ -791,63 +760,92 @@ impl Simulator {
             | Primitive::Trans { color, .. } = &o.kind
             {
                 names.push(o.id.clone());
-                caps.push((class, color.iter().copied().fold(0.0, f64::max)));
+                let c = |i: usize| color.get(i).copied().unwrap_or(0.0);
+                materials.push((class, [c(0), c(1), c(2)]));
             }
         }
+        if names.is_empty() {
+            return Ok(None);
+        }
         let key = cache::key(&[
+            text.as_bytes(),
+            self.sensors_text.as_bytes(),
+            format!("{:?} {kinds} records of {}", self.settings, names.join(",")).as_bytes(),
+            suns.as_bytes(),
+        ]);
+        let name = format!("records-{key:016x}");
+        if let Some(dir) = &self.cache
+            && let Some(bytes) = cache::load_bytes(dir, key)
+            && let Ok(rw) = Reweighting::parse(&bytes, &name)
+            && rw.materials == names
+        {
+            return Ok(Some(ReflRecords::new(rw, materials)?));
+        }
+        let trace_key = cache::key(&[
             text.as_bytes(),
             names.join(",").as_bytes(),
             kinds.as_bytes(),
         ]);
         // The terms come back in memory with the rows (no file).
-        let reweight = (!names.is_empty()).then(|| Reweight {
+        let reweight = Reweight {
             path: None,
             materials: Some(names.clone()),
-        });
-        let rows = self.trace(&text, kind, reweight, key)?;
-        let mut rw = Reweighting::new(names.clone(), ncols, 3);
+        };
+        let rows = self.trace(&text, kind, Some(reweight), trace_key)?;
+        let ncols = rows.first().map_or(0, |r| r.values.len() / 3);
+        let mut rw = Reweighting::new(names, ncols, 3);
         for r in &rows {
             rw.push_row(&r.terms);
         }
-        let base: Vec<f64> = rows.into_iter().flat_map(|r| r.values).collect();
-        let rw = (!names.is_empty()).then_some(rw);
-        let mut out = Vec::new();
-        for &c in classes {
-            let mut per_k = Vec::new();
-            for &k in ks {
-                let v = match &rw {
-                    Some(rw) => {
-                        let scales: Vec<f64> = rw
-                            .materials
-                            .iter()
-                            .map(|m| match names.iter().position(|n| n == m) {
-                                Some(i) if caps[i].0 == c && caps[i].1 > 0.0 => {
-                                    k.min(0.95 / caps[i].1)
-                                }
-                                _ => 1.0,
-                            })
-                            .collect();
-                        rw.apply(&scales)?
-                    }
-                    None => base.clone(),
-                };
-                if let Some(dir) = &self.cache {
-                    cache::store(dir, variant_key(c, k), &v);
-                }
-                per_k.push(v);
-            }
-            out.push(per_k);
-        }
-        // Every tracked material black: what reaches the sensors without reflection at any
-        // of the classes (direct light, light through untracked materials only).
-        let none = match &rw {
-            Some(rw) => rw.apply(&vec![0.0; rw.materials.len()])?,
-            None => base,
-        };
         if let Some(dir) = &self.cache {
-            cache::store(dir, variant_key(SurfaceClass::Ground, -1.0), &none);
+            let mut bytes = Vec::new();
+            if rw.write(&mut bytes, &name).is_ok() {
+                cache::store_bytes(dir, key, &bytes);
+            }
         }
-        Ok((out, none))
+        Ok(Some(ReflRecords::new(rw, materials)?))
+    }
+}
+
+/// Coefficients as polynomials in the reflectances of the room's surface classes (see
+/// [`Simulator::dc_records`]): the records, each tracked material's class and colour, and
+/// the coefficients of the scene as given (all factors 1).
+#[derive(Debug, Clone)]
+pub struct ReflRecords {
+    pub rw: Reweighting,
+    /// Per tracked material (in the records' order): class and RGB colour.
+    pub materials: Vec<(SurfaceClass, [f64; 3])>,
+    /// The coefficients with every factor 1, `nrows x ncols x 3`.
+    pub unscaled: Vec<f64>,
+}
+
+impl ReflRecords {
+    fn new(rw: Reweighting, materials: Vec<(SurfaceClass, [f64; 3])>) -> Result<ReflRecords> {
+        let unscaled = rw.apply(&vec![1.0; rw.materials.len()])?;
+        Ok(ReflRecords {
+            rw,
+            materials,
+            unscaled,
+        })
+    }
+
+    /// The coefficients with each class of `scales` (class, factor) scaled as
+    /// [`scaled_scene`] writes it (every channel of every material of the class times the
+    /// factor, capped at 0.95), minus the unscaled ones: what the change adds.
+    pub fn scaled_difference(&self, scales: &[(SurfaceClass, f64)]) -> Result<Vec<f64>> {
+        let factors: Vec<f64> = self
+            .materials
+            .iter()
+            .flat_map(|(class, colour)| {
+                let k = scales.iter().find(|x| x.0 == *class).map(|x| x.1);
+                colour.map(|c| match k {
+                    Some(k) if c > 0.0 => (c * k).clamp(0.0, 0.95) / c,
+                    _ => 1.0,
+                })
+            })
+            .collect();
+        let v = self.rw.apply_channels(&factors)?;
+        Ok(v.iter().zip(&self.unscaled).map(|(a, b)| a - b).collect())
     }
 }
 

@@ -75,7 +75,7 @@ impl PatchCells {
     }
 }
 
-fn window_hit(w: &crate::room::Window, org: [f64; 3], d: [f64; 3]) -> bool {
+pub(crate) fn window_hit(w: &crate::room::Window, org: [f64; 3], d: [f64; 3]) -> bool {
     let c = dot(d, w.outward);
     let dist = w.depth_of(org);
     if c <= 1e-6 || dist <= 0.0 {

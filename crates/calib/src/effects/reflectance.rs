@@ -1,9 +1,9 @@
 //! # Interior reflectances and ground albedo
 //!
 //! The reflectance of a surface class (walls, ceiling, floor, exterior ground) scaled by
-//! `k`: only inter-reflected light changes, through coefficients re-weighted to `k = 1 ± 0.5`
-//! from one trace and interpolated quadratically ([`crate::model::ReflSens`]); the ground class also
-//! scales gendaymtx's ground patch. Signature: errors growing with depth from the window
+//! `k`: only inter-reflected light changes, through the coefficients' re-weighting records
+//! (exact polynomials in every class's reflectance, so scales of several classes combine
+//! as they do in the room: [`crate::model::Refl`]). Signature: errors growing with depth from the window
 //! (walls, ceiling), ceiling-lit sensors under a bright ground. Fitted in 0.4 .. 1.6 (ground: 0.3 .. 4).
 
 use super::{Effect, golden};
@@ -13,9 +13,7 @@ use crate::room::SurfaceClass;
 /// Best scale of `class` given the other effects; `None` when the model has no material of
 /// that class.
 pub fn fit(f: &Fitter, base: &[Effect], class: SurfaceClass) -> Option<Effect> {
-    if !f.m.refl.iter().any(|r| r.class == class) {
-        return None;
-    }
+    f.m.refl.as_ref().and_then(|r| r.index(class))?;
     let probe = Effect::Reflectance { class, scale: 1.0 };
     // The ground albedo varies far more (grass 0.1 .. snow 0.8) than interior finishes;
     // light reflected once by the ground is close to linear in it.

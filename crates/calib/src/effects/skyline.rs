@@ -125,6 +125,66 @@ pub struct Geometry {
     sun_dir: Vec<Vec<Option<(f64, f64)>>>,
     /// `[t]`: per window (area x cosine towards the sun, hit azimuth, hit elevation).
     sun_win: Vec<Vec<(f64, f64, f64)>>,
+    /// The sky's ground glow as the windows see it (the downward directions that miss the
+    /// modelled ground): (area x cosine x solid angle, hit azimuth, hit height).
+    glow_win: Vec<(f64, f64, f64)>,
+    /// `[s]`: the same for each sensor's direct view through the windows.
+    glow_dir: Vec<Vec<(f64, f64, f64)>>,
+}
+
+/// Downward directions of [`glow_cells`]: depression bands (degrees) fine near the
+/// horizon, where the glow beyond a modelled ground is seen, and azimuth steps.
+const GLOW_BANDS: [f64; 14] = [
+    0.0, 0.5, 1.0, 1.5, 2.0, 3.0, 4.0, 6.0, 8.0, 12.0, 20.0, 35.0, 55.0, 90.0,
+];
+const GLOW_AZ_STEP: f64 = 2.0;
+
+/// The ground-glow directions seen from `org` (cells of [`GLOW_BANDS`] x
+/// [`GLOW_AZ_STEP`]) that `weight` accepts and that miss the modelled ground, each with
+/// `weight x solid angle`, the azimuth (seen from `c`) and the height at which it meets
+/// the cylinder of radius `dist` around `c`. A skyline's facets stand from
+/// [`crate::apply::SKYLINE_BOTTOM`] up: the glow behind them is hidden where the ray meets
+/// the cylinder above that (a near obstruction hides the bright band just below the
+/// horizon that lights the back of a side-lit room; one 300 m away, a sliver).
+fn glow_cells(
+    m: &Model,
+    c: [f64; 3],
+    dist: f64,
+    org: [f64; 3],
+    weight: &dyn Fn([f64; 3]) -> f64,
+) -> Vec<(f64, f64, f64)> {
+    let mut out = Vec::new();
+    let naz = (360.0 / GLOW_AZ_STEP) as usize;
+    for b in GLOW_BANDS.windows(2) {
+        let (d0, d1) = (b[0].to_radians(), b[1].to_radians());
+        let dm = 0.5 * (d0 + d1);
+        // Solid angle of the band cell: (sin d1 - sin d0) x azimuth step.
+        let omega = (d1.sin() - d0.sin()) * GLOW_AZ_STEP.to_radians();
+        for k in 0..naz {
+            let az = ((k as f64 + 0.5) * GLOW_AZ_STEP).to_radians();
+            let d = [dm.cos() * az.sin(), dm.cos() * az.cos(), -dm.sin()];
+            let w = weight(d);
+            if w <= 0.0 || m.room.meets_ground(org, d) {
+                continue;
+            }
+            if let Some((haz, el)) = hit(c, dist, org, d) {
+                out.push((w * omega, haz, c[2] + dist * el.to_radians().tan()));
+            }
+        }
+    }
+    out
+}
+
+/// Share of the glow cells `cells` the profile `tp` hides.
+fn glow_hidden(cells: &[(f64, f64, f64)], tp: &dyn Fn(f64) -> f64) -> Option<f64> {
+    let (mut b, mut t) = (0.0, 0.0);
+    for &(w, az, z) in cells {
+        t += w;
+        if tp(az) > 0.0 && z > crate::apply::SKYLINE_BOTTOM {
+            b += w;
+        }
+    }
+    (t > 0.0).then(|| b / t)
 }
 
 impl Geometry {
@@ -183,11 +243,42 @@ impl Geometry {
                     .collect(),
             );
         }
+        let glow_win = m
+            .room
+            .windows
+            .iter()
+            .flat_map(|w| {
+                glow_cells(m, c, distance, w.centroid, &|d| {
+                    w.area * dot(d, w.outward).max(0.0)
+                })
+            })
+            .collect();
+        let glow_dir = m
+            .sensors
+            .iter()
+            .map(|s| {
+                glow_cells(m, c, distance, s.ray.org, &|d| {
+                    let cos = dot(d, s.ray.dir);
+                    if cos > 0.0
+                        && m.room
+                            .windows
+                            .iter()
+                            .any(|w| super::obstruction::window_hit(w, s.ray.org, d))
+                    {
+                        cos
+                    } else {
+                        0.0
+                    }
+                })
+            })
+            .collect();
         Geometry {
             distance,
             dir,
             sun_dir,
             sun_win,
+            glow_win,
+            glow_dir,
         }
     }
 }
@@ -216,6 +307,13 @@ impl Cache {
                     facade_luminance(m, t, [-az.sin(), -az.cos(), 0.0])
                 })
                 .collect();
+            // The glow's stand-in: the facade's lower part, facing the room from the
+            // windows' outward azimuth.
+            let wa = window_azimuths(m)[0].to_radians();
+            let l0 = sky_luminance(m, t, 0);
+            if l0 > 0.0 {
+                ratio[t * np] = facade_luminance(m, t, [-wa.sin(), -wa.cos(), 0.0]) / l0;
+            }
             for p in 1..np {
                 let l = sky_luminance(m, t, p);
                 let az = m.patches.centre_angles(p).1.to_degrees().rem_euclid(360.0);
@@ -334,6 +432,16 @@ pub fn apply(e: &Effect, m: &Model, w: &mut Weights) {
             };
             fill.dir[s * np + i] = f * wd[s * np + i];
             wd[s * np + i] *= 1.0 - f;
+        }
+    }
+    // The ground glow (patch 0): hidden where the facets stand in front of it.
+    if let Some(f0) = glow_hidden(&g.glow_win, &tp) {
+        fill.ind[0] = f0 * w.win_ind[0];
+        w.win_ind[0] *= 1.0 - f0;
+        for s in 0..ns {
+            let f = glow_hidden(&g.glow_dir[s], &tp).unwrap_or(f0);
+            fill.dir[s * np] = f * wd[s * np];
+            wd[s * np] *= 1.0 - f;
         }
     }
     w.win_dir = Some(wd);
