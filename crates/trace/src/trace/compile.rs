@@ -1015,6 +1015,20 @@ impl Renderable {
         };
         let bvh = Bvh::build_source(&src, placed, false).map_err(|e| build_error(e, &top))?;
         keep(scene, &slots, &expanded.files);
+        let r = Renderable::assemble(bvh, surfaces, shading, sources, ch, panes);
+        Ok((r, slots))
+    }
+
+    /// The renderable of built geometry and shading, with the portals found among the
+    /// glass polygons `panes` (vertex lists; kept for compiled scenes).
+    pub(super) fn assemble(
+        bvh: Bvh,
+        surfaces: Vec<SurfaceInfo>,
+        shading: Shading,
+        sources: Sources,
+        ch: &Channels,
+        panes: Vec<Vec<[f64; 3]>>,
+    ) -> Renderable {
         let (materials, material_ids, patterned) = shading.finish();
         let mut r = Renderable {
             bvh,
@@ -1027,18 +1041,13 @@ impl Renderable {
             portals: Default::default(),
             pane_polygons: Vec::new(),
         };
-        r.set_panes(panes);
-        Ok((r, slots))
-    }
-
-    /// Find the portals among the glass polygons `panes` (vertex lists) and keep both.
-    pub(super) fn set_panes(&mut self, panes: Vec<Vec<[f64; 3]>>) {
         let list = panes
             .iter()
             .filter_map(|v| super::portals::Portal::new(v))
             .collect();
-        self.portals = self.find_portals(list);
-        self.pane_polygons = panes;
+        r.portals = r.find_portals(list);
+        r.pane_polygons = panes;
+        r
     }
 
     /// Number of window panes sampled as portals ([`super::portals`]).

@@ -353,20 +353,9 @@ impl Renderable {
         for (k, &i) in c.index.iter().enumerate() {
             shading.source(k, i as usize, &mut sources)?;
         }
-        let (materials, material_ids, patterned) = shading.finish();
-        let mut r = Renderable {
-            bvh: c.bvh,
-            surfaces: c.surfaces,
-            materials,
-            material_ids,
-            patterned,
-            sources,
-            ncomp: ch.ncomp.max(1),
-            portals: Default::default(),
-            pane_polygons: Vec::new(),
-        };
         // The same panes as from the sources, so the same portals and the same bytes.
-        r.set_panes(c.panes);
-        Ok(r)
+        Ok(Renderable::assemble(
+            c.bvh, c.surfaces, shading, sources, ch, c.panes,
+        ))
     }
 }

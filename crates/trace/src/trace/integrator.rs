@@ -179,6 +179,17 @@ enum Mode {
     Suns,
 }
 
+impl Mode {
+    /// Coefficients or values.
+    fn of(coefficients: bool) -> Mode {
+        if coefficients {
+            Mode::Coefficients
+        } else {
+            Mode::Values
+        }
+    }
+}
+
 /// Where a path's findings go: escapes into distant glows (coefficient mode) and, in sun
 /// coefficient mode, the light of each sun scattered towards the path at a vertex.
 /// [`Escapes`] makes an escape closure a sink.
@@ -254,6 +265,21 @@ struct PathState {
     /// Set while the path goes straight on from a vertex whose light through the windows
     /// was also sampled by the portals: the two strategies' densities for its direction.
     mis: Option<Mis>,
+}
+
+impl PathState {
+    /// A path's state at its start: one started by a sensor's (or a sender's) first
+    /// sample counts as past its first diffuse bounce and does not see sources directly.
+    fn new(nc: usize, from_sensor: bool) -> PathState {
+        PathState {
+            beta: Color::splat(nc, 1.0),
+            sees_sources: !from_sensor,
+            diffuse: u32::from(from_sensor),
+            depth: u32::from(from_sensor),
+            events: Events::default(),
+            mis: None,
+        }
+    }
 }
 
 /// Densities of the last vertex's two strategies for the path's direction (solid angle):
@@ -944,14 +970,7 @@ impl Renderable {
             let (u, v) = strat_uv(k, n, m, rng);
             let dir = Vec3::from(cosine_hemisphere(normal.to_array(), u, v));
             let ray = Ray { org: p, dir };
-            let st = PathState {
-                beta: Color::splat(nc, 1.0),
-                sees_sources: false,
-                diffuse: 1,
-                depth: 1,
-                events: Events::default(),
-                mis: None,
-            };
+            let st = PathState::new(nc, true);
             sample_total.iter_mut().for_each(|x| *x = 0.0);
             let mut rays = 0;
             self.walk(
@@ -1021,14 +1040,7 @@ impl Renderable {
         for k in 0..n {
             let (u, w) = strat_uv(k, n, m, rng);
             let dir = Vec3::from(cosine_hemisphere(normal.to_array(), u, w));
-            let st = PathState {
-                beta: Color::splat(nc, 1.0),
-                sees_sources: false,
-                diffuse: 1,
-                depth: 1,
-                events: Events::default(),
-                mis: None,
-            };
+            let st = PathState::new(nc, true);
             let l = self.walk(
                 Ray { org: p, dir },
                 st,
@@ -1066,14 +1078,7 @@ impl Renderable {
         if dir.length() == 0.0 {
             return (Color::black(nc), 0);
         }
-        let st = PathState {
-            beta: Color::splat(nc, 1.0),
-            sees_sources: true,
-            diffuse: 0,
-            depth: 0,
-            events: Events::default(),
-            mis: None,
-        };
+        let st = PathState::new(nc, false);
         let mut rays = 0;
         let l = self.walk(
             Ray { org, dir },
@@ -1114,19 +1119,8 @@ impl Renderable {
         escape: &mut dyn FnMut(Vec3, Color, &Events),
     ) -> (Color, u64) {
         let nc = self.ncomp;
-        let st = PathState {
-            beta: Color::splat(nc, 1.0),
-            sees_sources: !from_sensor,
-            diffuse: u32::from(from_sensor),
-            depth: u32::from(from_sensor),
-            events: Events::default(),
-            mis: None,
-        };
-        let mode = if coefficients {
-            Mode::Coefficients
-        } else {
-            Mode::Values
-        };
+        let st = PathState::new(nc, from_sensor);
+        let mode = Mode::of(coefficients);
         let mut rays = 0;
         let l = self.walk(
             Ray { org, dir },
@@ -1166,19 +1160,8 @@ impl Renderable {
         escape: &mut dyn FnMut(Vec3, Color, &Events),
     ) -> (Color, u64) {
         let nc = self.ncomp;
-        let mut st = PathState {
-            beta: Color::splat(nc, 1.0),
-            sees_sources: false,
-            diffuse: 1,
-            depth: 1,
-            events: Events::default(),
-            mis: None,
-        };
-        let mode = if coefficients {
-            Mode::Coefficients
-        } else {
-            Mode::Values
-        };
+        let mut st = PathState::new(nc, true);
+        let mode = Mode::of(coefficients);
         let mut rays = 0;
         let mut out = Color::black(nc);
         let mut sink = Escapes(escape);
@@ -1296,14 +1279,7 @@ impl Renderable {
         track: Option<&Tracking>,
         sink: &mut dyn PathSink,
     ) -> u64 {
-        let st = PathState {
-            beta: Color::splat(self.ncomp, 1.0),
-            sees_sources: !start.from_sensor,
-            diffuse: u32::from(start.from_sensor),
-            depth: u32::from(start.from_sensor),
-            events: Events::default(),
-            mis: None,
-        };
+        let st = PathState::new(self.ncomp, start.from_sensor);
         let mut rays = 0;
         self.walk(
             Ray {
