@@ -72,6 +72,12 @@ impl Encoder {
         self.u64(n as u64);
     }
     /// A string: its length, then its UTF-8 bytes.
+    /// A `file:line:column` location: the file name, then line and column (0: none).
+    pub fn location(&mut self, loc: &Location) {
+        self.str(&loc.file);
+        self.u32(loc.line.map_or(0, |l| l as u32));
+        self.u32(loc.col.map_or(0, |c| c as u32));
+    }
     pub fn str(&mut self, s: &str) {
         self.len(s.len());
         self.bytes(s.as_bytes());
@@ -181,6 +187,19 @@ impl<'a> Decoder<'a> {
                 "{what} {n} cannot fit in the {} bytes left",
                 self.rest.len()
             ))
+        })
+    }
+    /// A location as [`Encoder::location`] wrote it (`what` names it in errors).
+    pub fn location(&mut self, what: &str) -> Result<Location> {
+        let file = self.str(&format!("{what} file"))?;
+        let (line, col) = (
+            self.u32(&format!("{what} line"))?,
+            self.u32(&format!("{what} column"))?,
+        );
+        Ok(Location {
+            file,
+            line: (line > 0).then_some(line as usize),
+            col: (col > 0).then_some(col as usize),
         })
     }
     pub fn str(&mut self, what: &str) -> Result<String> {
@@ -560,9 +579,7 @@ pub fn encode_scene(scene: &Scene, index: &[u32], e: &mut Encoder) {
                 e.str(&a.target_id);
             }
         }
-        e.str(&o.loc.file);
-        e.u32(o.loc.line.map_or(0, |l| l as u32));
-        e.u32(o.loc.col.map_or(0, |c| c as u32));
+        e.location(&o.loc);
         match &o.kind {
             Primitive::SpecFile { data: Some(d), .. } => {
                 e.u8(1);
@@ -605,8 +622,7 @@ pub fn decode_scene(d: &mut Decoder) -> Result<(Scene, Vec<u32>)> {
             }),
             v => return Err(d.corrupted(format!("alias flag {v}"))),
         };
-        let file = d.str("file name")?;
-        let (line, col) = (d.u32("line")?, d.u32("column")?);
+        let loc = d.location("object")?;
         let mut kind = Primitive::from_args(otype, strings, reals)
             .ok_or_else(|| d.corrupted(format!("{tname} '{id}' with bad arguments")))?;
         if d.bool("data flag")? {
@@ -630,11 +646,7 @@ pub fn decode_scene(d: &mut Decoder) -> Result<(Scene, Vec<u32>)> {
             id,
             kind,
             alias,
-            loc: Location {
-                file,
-                line: (line > 0).then_some(line as usize),
-                col: (col > 0).then_some(col as usize),
-            },
+            loc,
         });
     }
     Ok((

@@ -417,10 +417,17 @@ fn distant_source(
 /// The shape of a surface with Radiance's radius fix-ups (`otype` and its real arguments as
 /// written; `None` for types that are not traced here, the caller reports them).
 fn shape_of_args(otype: OType, r: &[f64]) -> Option<ShapeRef<'_>> {
+    match otype {
+        OType::Polygon => Some(ShapeRef::Polygon(r)),
+        _ => analytic_of_args(otype, r),
+    }
+}
+
+/// [`shape_of_args`] for the analytic types (copied out of `r`, so borrowing nothing).
+fn analytic_of_args(otype: OType, r: &[f64]) -> Option<ShapeRef<'static>> {
     let p = |k: usize| [r[k], r[k + 1], r[k + 2]];
     let get = |n: usize| (r.len() >= n).then_some(());
     Some(match otype {
-        OType::Polygon => ShapeRef::Polygon(r),
         OType::Sphere | OType::Bubble => {
             get(4)?;
             ShapeRef::Sphere {
@@ -482,94 +489,49 @@ fn shape_of(p: &Primitive) -> Option<ShapeRef<'_>> {
             center,
             radius,
             inward,
-        } => shape_of_args(
+        } => analytic_of_args(
             if *inward {
                 OType::Bubble
             } else {
                 OType::Sphere
             },
             &[center[0], center[1], center[2], *radius],
-        )
-        .map(owned),
+        ),
         Primitive::Cylinder {
             p0,
             p1,
             radius,
             inward,
-        } => shape_of_args(
+        } => analytic_of_args(
             if *inward {
                 OType::Tube
             } else {
                 OType::Cylinder
             },
             &[p0[0], p0[1], p0[2], p1[0], p1[1], p1[2], *radius],
-        )
-        .map(owned),
+        ),
         Primitive::Cone {
             p0,
             p1,
             r0,
             r1,
             inward,
-        } => shape_of_args(
+        } => analytic_of_args(
             if *inward { OType::Cup } else { OType::Cone },
             &[p0[0], p0[1], p0[2], p1[0], p1[1], p1[2], *r0, *r1],
-        )
-        .map(owned),
+        ),
         Primitive::Ring {
             center,
             normal,
             r0,
             r1,
-        } => shape_of_args(
+        } => analytic_of_args(
             OType::Ring,
             &[
                 center[0], center[1], center[2], normal[0], normal[1], normal[2], *r0, *r1,
             ],
-        )
-        .map(owned),
+        ),
         _ => None,
-    }
-}
-
-/// An analytic shape no longer borrowing the arguments it was made from.
-fn owned(s: ShapeRef<'_>) -> ShapeRef<'static> {
-    match s {
-        ShapeRef::Polygon(_) => unreachable!("only analytic shapes are made from a local array"),
-        ShapeRef::Sphere {
-            centre,
-            radius,
-            inward,
-        } => ShapeRef::Sphere {
-            centre,
-            radius,
-            inward,
-        },
-        ShapeRef::Cone {
-            p0,
-            p1,
-            r0,
-            r1,
-            inward,
-        } => ShapeRef::Cone {
-            p0,
-            p1,
-            r0,
-            r1,
-            inward,
-        },
-        ShapeRef::Cylinder { p0, p1, r, inward } => ShapeRef::Cylinder { p0, p1, r, inward },
-        ShapeRef::Ring {
-            centre,
-            normal,
-            r_in,
-            r_out,
-        } => ShapeRef::Ring {
-            centre,
-            normal,
-            r_in,
-            r_out,
-        },
     }
 }
 

@@ -23,7 +23,7 @@ use std::path::Path;
 
 use super::compile::{Renderable, Slot, SurfaceInfo, SurfaceName};
 use super::sources::Sources;
-use crate::error::{Error, Location, Result};
+use crate::error::{Error, Result};
 use crate::geometry::Bvh;
 use crate::material::ShadingOptions;
 use crate::radiometry::Channels;
@@ -134,9 +134,7 @@ pub fn compile(
         }
         body.str(s.first.otype.name());
         body.str(&s.first.id);
-        body.str(&s.first.loc.file);
-        body.u32(s.first.loc.line.map_or(0, |l| l as u32));
-        body.u32(s.first.loc.col.map_or(0, |c| c as u32));
+        body.location(&s.first.loc);
     }
     body.len(renderable.surfaces.len());
     body.buf.reserve(9 * renderable.surfaces.len());
@@ -287,20 +285,11 @@ pub fn decode(bytes: &[u8], path: &Path) -> Result<CompiledScene> {
         let otype = OType::from_name(&tname)
             .ok_or_else(|| d.corrupted(format!("unknown type '{tname}'")))?;
         let id = d.str("surface name")?;
-        let file = d.str("surface file")?;
-        let (line, col) = (d.u32("surface line")?, d.u32("surface column")?);
+        let loc = d.location("surface")?;
         slots.push(Slot {
             material,
             between,
-            first: SurfaceName {
-                otype,
-                id,
-                loc: Location {
-                    file,
-                    line: (line > 0).then_some(line as usize),
-                    col: (col > 0).then_some(col as usize),
-                },
-            },
+            first: SurfaceName { otype, id, loc },
         });
     }
     let ns = d.count(9, "surface count")?;
