@@ -38,7 +38,7 @@ use nom::{
 use super::otype::OType;
 use super::primitive::Primitive;
 use super::specdata::SpecData;
-use super::table::{SurfaceTable, is_plain_surface};
+use super::table::{SurfaceTable, VOID, is_plain_surface};
 use super::{Alias, LoadOptions, Object, Scene, exec};
 use crate::error::{Error, Location, Result};
 
@@ -448,6 +448,150 @@ impl<'t> Source<'t> {
     }
 }
 
+/// Texts shorter than this are read on one thread: a thread's start and the merge would
+/// cost more than they save.
+const MIN_PIECE: usize = 1 << 20;
+
+/// Where to cut `text` for reading ahead ([`Loader::parse`]): at most `pieces - 1` byte
+/// offsets, each just after a line break, increasing, each piece at least `min_piece`
+/// bytes. None for a text of `u32::MAX` bytes or more (the pieces' columns count in `u32`).
+fn cuts(text: &str, pieces: usize, min_piece: usize) -> Vec<usize> {
+    let bytes = text.as_bytes();
+    let n = bytes.len();
+    if u32::try_from(n).is_err() {
+        return Vec::new();
+    }
+    let pieces = pieces.min(n / min_piece.max(1)).max(1);
+    let mut cuts: Vec<usize> = Vec::new();
+    for j in 1..pieces {
+        let at = (j * (n / pieces)).max(cuts.last().map_or(0, |&c| c + 1));
+        let Some(k) = bytes
+            .get(at..)
+            .and_then(|b| b.iter().position(|&b| b == b'\n'))
+        else {
+            break;
+        };
+        if at + k + 1 < n {
+            cuts.push(at + k + 1);
+        }
+    }
+    cuts
+}
+
+/// Plain surfaces read ahead from a cut of the text ([`speculate`]).
+struct Ahead<'t> {
+    /// Where the first statement after the cut starts (the first byte that is not white
+    /// space).
+    start: usize,
+    /// Its line, counted from 1 at the cut.
+    start_line: usize,
+    /// Where reading stopped: the start of the first statement at or after the piece's
+    /// end, or of one it does not read, or the end of the text.
+    end: usize,
+    /// Its line, counted from 1 at the cut, and that line's first byte.
+    end_line: usize,
+    end_line_start: usize,
+    /// The surfaces read; their modifier is an index into `names` ([`VOID`] for `void`),
+    /// their position counts from 0, their lines from 1 at the cut, their file is 0.
+    table: SurfaceTable,
+    names: Vec<&'t str>,
+}
+
+/// Read plain surfaces (and plain comments) from byte `cut` of `text` (a line start), as
+/// [`Loader::object`] reads them, until a statement starts at or after `limit`. Stops
+/// before anything else: `!` commands, `#@rfluxmtx` lines, modifiers, aliases, `inherit`,
+/// quotes, and whatever would be an error; the serial reader takes it from there.
+fn speculate(text: &str, cut: usize, limit: usize) -> Ahead<'_> {
+    let mut src = Source::new(String::new(), text, PathBuf::new());
+    src.pos = cut;
+    src.cursor.set((cut, 1, cut));
+    let mut table = SurfaceTable::default();
+    let mut names: Vec<&str> = Vec::new();
+    let mut reals: Vec<f64> = Vec::new();
+    let mut last: Option<(&str, u32)> = None;
+    src.skip_space();
+    let (start, start_line) = (src.pos, src.line_col(src.pos).0);
+    loop {
+        src.skip_space();
+        let rest = src.rest();
+        if rest.is_empty() || src.pos >= limit {
+            break;
+        }
+        if rest.starts_with('#') {
+            if rest.starts_with(super::RFLUXMTX_DIRECTIVE) {
+                break;
+            }
+            let n = rest.find('\n').unwrap_or(rest.len());
+            src.pos += n;
+            continue;
+        }
+        let (stmt, counted) = (src.pos, src.cursor.get());
+        let pushed = (|| {
+            let (mod_name, at) = src.plain_word()?;
+            let (line, col) = src.line_col(at);
+            let modifier = match mod_name {
+                "void" => VOID,
+                "inherit" => return None,
+                name => match last {
+                    Some((l, k)) if l == name => k,
+                    _ => {
+                        let k = match names.iter().position(|&n| n == name) {
+                            Some(k) => k,
+                            None => {
+                                names.push(name);
+                                names.len() - 1
+                            }
+                        };
+                        let k = u32::try_from(k).ok()?;
+                        last = Some((name, k));
+                        k
+                    }
+                },
+            };
+            let otype = OType::from_name(src.plain_word()?.0).filter(|&t| is_plain_surface(t))?;
+            let id = src.plain_word()?.0;
+            if parse_count(src.plain_word()?.0) != Some(0) || !otype.string_count().accepts(0) {
+                return None;
+            }
+            if parse_count(src.plain_word()?.0) != Some(0) {
+                return None;
+            }
+            let nr = usize::try_from(parse_count(src.plain_word()?.0)?).ok()?;
+            reals.clear();
+            if !src.plain_reals(nr, &mut reals) {
+                for _ in 0..nr {
+                    let (w, _) = src.word(&String::new, &String::new).ok()?;
+                    reals.push(parse_real(&w)?);
+                }
+            }
+            if !otype.real_count().accepts(nr) {
+                return None;
+            }
+            let modifier = (modifier != VOID).then_some(modifier as usize);
+            table
+                .push(otype, modifier, table.len(), &reals, id, 0, line, col)
+                .ok()
+        })();
+        if pushed.is_none() {
+            src.pos = stmt;
+            src.cursor.set(counted);
+            break;
+        }
+    }
+    let end = src.pos;
+    let (end_line, _) = src.line_col(end);
+    let (_, _, end_line_start) = src.cursor.get();
+    Ahead {
+        start,
+        start_line,
+        end,
+        end_line,
+        end_line_start,
+        table,
+        names,
+    }
+}
+
 /// Builds a [`Scene`] (or a [`super::CompactScene`]) from one or more pieces of text.
 pub(crate) struct Loader<'o> {
     opts: &'o LoadOptions,
@@ -471,6 +615,9 @@ pub(crate) struct Loader<'o> {
     files: Vec<PathBuf>,
     /// Inline commands run (their text).
     ran: Vec<String>,
+    /// Most pieces a large text is cut into, and their least size ([`Loader::parse`]).
+    pieces: usize,
+    min_piece: usize,
 }
 
 impl<'o> Loader<'o> {
@@ -488,6 +635,8 @@ impl<'o> Loader<'o> {
             reals: Vec::new(),
             files: Vec::new(),
             ran: Vec::new(),
+            pieces: rayon::current_num_threads(),
+            min_piece: MIN_PIECE,
         }
     }
 
@@ -554,6 +703,13 @@ impl<'o> Loader<'o> {
     }
 
     /// Parse `text` named `name`, whose `!` commands run in `base_dir`.
+    ///
+    /// A large text read column-wise is cut into pieces at line ends, one per core; while
+    /// this thread reads the first piece as below, the others are read ahead on their own
+    /// threads ([`speculate`]), each as if a statement began where its piece begins, and
+    /// only where that is so are they taken over (see [`Loader::take`]). Everything else
+    /// (modifiers, commands, aliases, anything that would be an error) is left to the
+    /// reader here, in order, so objects, locations and errors are those of a serial read.
     pub fn parse(
         &mut self,
         text: &str,
@@ -562,10 +718,85 @@ impl<'o> Loader<'o> {
         depth: usize,
     ) -> Result<()> {
         let mut src = Source::new(name, text, base_dir);
+        let cuts = match self.table {
+            Some(_) => cuts(text, self.pieces, self.min_piece),
+            None => Vec::new(),
+        };
+        if cuts.is_empty() {
+            return self.parse_until(&mut src, depth, usize::MAX);
+        }
+        std::thread::scope(|scope| {
+            let ahead: Vec<_> = cuts
+                .iter()
+                .enumerate()
+                .map(|(j, &cut)| {
+                    let limit = cuts.get(j + 1).copied().unwrap_or(usize::MAX);
+                    scope.spawn(move || speculate(text, cut, limit))
+                })
+                .collect();
+            for (&cut, piece) in cuts.iter().zip(ahead) {
+                self.parse_until(&mut src, depth, cut)?;
+                let piece = piece
+                    .join()
+                    .unwrap_or_else(|e| std::panic::resume_unwind(e));
+                self.take(&mut src, piece)?;
+            }
+            self.parse_until(&mut src, depth, usize::MAX)
+        })
+    }
+
+    /// Take over a piece read ahead ([`speculate`]) when the serial read stands where the
+    /// piece's first statement starts (else the piece began inside a statement, and is
+    /// dropped). Its surfaces' modifiers are looked up now: plain surfaces define none, so
+    /// the names mean what they would have meant read in order. A name that is not defined
+    /// (or columns that would overflow) drops the piece, and the serial read gives the error.
+    fn take(&mut self, src: &mut Source, piece: Ahead<'_>) -> Result<()> {
+        if src.pos != piece.start {
+            return Ok(());
+        }
+        let Some(table) = &mut self.table else {
+            return Ok(());
+        };
+        let mut modifiers = Vec::with_capacity(piece.names.len());
+        for name in &piece.names {
+            match self.modifiers.get(*name) {
+                Some(&i) => modifiers.push(i),
+                None => return Ok(()),
+            }
+        }
+        // The piece's lines are counted from 1 at its cut, a line start.
+        let (line, _) = src.line_col(piece.start);
+        let first_line = line + 1 - piece.start_line;
+        if !piece.table.is_empty() {
+            let number = match src.file_number.get() {
+                Some(k) => k,
+                None => {
+                    let k = table.file_number(&src.name)?;
+                    src.file_number.set(Some(k));
+                    k
+                }
+            };
+            let base = self.objects.len() + table.len();
+            if !table.append(&piece.table, &modifiers, base, first_line, number) {
+                return Ok(());
+            }
+        }
+        src.pos = piece.end;
+        src.cursor.set((
+            piece.end,
+            first_line + piece.end_line - 1,
+            piece.end_line_start,
+        ));
+        Ok(())
+    }
+
+    /// Read statements from `src` until one starts at or after byte `limit` (or the text
+    /// ends).
+    fn parse_until(&mut self, src: &mut Source, depth: usize, limit: usize) -> Result<()> {
         loop {
             src.skip_space();
             let rest = src.rest();
-            if rest.is_empty() {
+            if rest.is_empty() || src.pos >= limit {
                 return Ok(());
             }
             if let Ok((r, text)) = comment(rest) {
@@ -583,9 +814,9 @@ impl<'o> Loader<'o> {
             } else if let Ok((r, cmd)) = command_line(rest) {
                 let loc = src.at(src.pos);
                 src.advance(r);
-                self.command(cmd, &src, loc, depth)?;
+                self.command(cmd, src, loc, depth)?;
             } else {
-                self.object(&mut src)?;
+                self.object(src)?;
             }
         }
     }
@@ -916,6 +1147,86 @@ mod tests {
             .to_string();
         assert!(e.contains("more than 3 inline '!' commands"), "{e}");
         assert!(e.starts_with("many.rad:3: !echo '!true':1"), "{e}");
+    }
+
+    /// Read `text` column-wise in `pieces` pieces of any size (1: serially).
+    fn compact_in(text: &str, pieces: usize) -> Result<crate::scene::CompactScene> {
+        let opts = LoadOptions::default();
+        let mut loader = Loader::compact(&opts);
+        (loader.pieces, loader.min_piece) = (pieces, 1);
+        loader.parse(text, "t.rad".into(), PathBuf::new(), 0)?;
+        Ok(loader.finish_compact())
+    }
+
+    /// Pieces read ahead on other threads are taken over only where a statement starts at
+    /// their cut: the columns, rest, locations and errors are the serial reader's, wherever
+    /// the cuts fall (inside polygons spread over lines, quoted words, comments, after a
+    /// redefined modifier, before an alias or a bad word).
+    #[test]
+    fn reading_ahead_reads_as_serially() {
+        let mut text = String::from("void plastic m 0 0 5 .5 .5 .5 0 0\n# a comment\n");
+        for i in 0..60 {
+            match i % 6 {
+                0 => text += &format!("m polygon p{i} 0 0 9\n 0 0 {i}\n 1 0 0\n\t1 1 0\n"),
+                1 => text += &format!("m sphere s{i} 0 0 4 1 2 3 .{i}5 # not a comment\n"),
+                2 => text += &format!("void ring r{i} 0 0 8 0 0 0 0 0 1 0 '1.5'\n"),
+                3 => text += &format!("# comment {i}\nm cone c{i} 0 0 8 0 0 0 1e1 1 1 1 .5\n"),
+                4 => {
+                    text += &format!(
+                        "void plastic m 0 0 5 .{i} .5 .5 0 0\nm bubble b{i} 0 0 4 0 0 0 1\n"
+                    )
+                }
+                _ => text += &format!("m polygon q{i}\n0 0 9 0 0 0 1 0 0 1 1 {i}\n\n\n"),
+            }
+            if i == 40 {
+                text +=
+                    "#@rfluxmtx h=kf u=+Z\nm alias m2 m\nm2 polygon a 0 0 9 0 0 0 1 0 0 1 1 0\n";
+            }
+        }
+        let serial = compact_in(&text, 1).unwrap();
+        assert_eq!(serial.len(), 1 + 60 + 10 + 2);
+        for pieces in [2, 3, 5, 8, 13, 40, 200] {
+            assert_eq!(
+                compact_in(&text, pieces).unwrap(),
+                serial,
+                "{pieces} pieces"
+            );
+        }
+        // Errors: an undefined modifier, a bad number, an unterminated quote, a missing
+        // count, an unknown type, anywhere: the message (file:line:col) is the serial one.
+        let at = text.len() * 2 / 3;
+        let at = at + text[at..].find('\n').unwrap() + 1;
+        for bad in [
+            "x polygon u 0 0 9 0 0 0 1 0 0 1 1 0\n",
+            "m polygon u 0 0 9 0 0 0 1 0 0 1 z 0\n",
+            "m polygon u 0 0 9 0 0 0 1 0 0 1 '1 0\n",
+            "m polygon u 0 0\n",
+            "m polyg u 0 0 9 0 0 0 1 0 0 1 1 0\n",
+            "inherit polygon u 0 0 9 0 0 0 1 0 0 1 1 0\n",
+        ] {
+            let text = format!("{}{bad}{}", &text[..at], &text[at..]);
+            let want = compact_in(&text, 1).unwrap_err().to_string();
+            for pieces in [2, 3, 7, 30] {
+                let got = compact_in(&text, pieces).unwrap_err().to_string();
+                assert_eq!(got, want, "{pieces} pieces, {bad}");
+            }
+        }
+    }
+
+    #[test]
+    fn cuts_fall_after_line_breaks() {
+        let text = "a b\nc\n\nd e f\ng\n";
+        for pieces in 1..10 {
+            let cuts = cuts(text, pieces, 1);
+            assert!(cuts.len() < pieces, "{cuts:?}");
+            assert!(cuts.windows(2).all(|w| w[0] < w[1]), "{cuts:?}");
+            assert!(
+                cuts.iter()
+                    .all(|&c| c < text.len() && text.as_bytes()[c - 1] == b'\n'),
+                "{cuts:?}"
+            );
+        }
+        assert!(cuts(text, 4, 100).is_empty());
     }
 
     #[test]

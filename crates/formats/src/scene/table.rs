@@ -190,6 +190,54 @@ impl SurfaceTable {
         self.col.push(u32::try_from(col).unwrap_or(0));
         Ok(())
     }
+
+    /// Append the surfaces of `other` (read ahead by the parser on another thread): its
+    /// modifier `k` becomes `modifiers[k]`, its positions count from `index`, its lines
+    /// from `first_line` (its line 1), its file is `file`. The same columns as pushing
+    /// each surface in turn; `false`, with nothing appended, where a push would fail.
+    pub(crate) fn append(
+        &mut self,
+        other: &SurfaceTable,
+        modifiers: &[usize],
+        index: usize,
+        first_line: usize,
+        file: u32,
+    ) -> bool {
+        let n = other.len();
+        let modifier: Option<Vec<u32>> = modifiers
+            .iter()
+            .map(|&m| narrow(m, "modifiers").ok())
+            .collect();
+        let fits = |v: usize| narrow(v, "").is_ok();
+        let (Some(modifier), true, true, true) = (
+            modifier,
+            n == 0 || fits(index + n - 1),
+            fits(self.reals.len() + other.reals.len()),
+            fits(self.ids.len() + other.ids.len()),
+        ) else {
+            return false;
+        };
+        let (r0, i0) = (self.reals.len() as u32, self.ids.len() as u32);
+        self.otype.extend_from_slice(&other.otype);
+        self.modifier
+            .extend(other.modifier.iter().map(|&m| match m {
+                VOID => VOID,
+                m => modifier[m as usize],
+            }));
+        self.index.extend((index..index + n).map(|i| i as u32));
+        self.reals_end
+            .extend(other.reals_end.iter().map(|&e| r0 + e));
+        self.reals.extend_from_slice(&other.reals);
+        self.id_end.extend(other.id_end.iter().map(|&e| i0 + e));
+        self.ids.push_str(&other.ids);
+        self.file.extend(std::iter::repeat_n(file, n));
+        self.line.extend(other.line.iter().map(|&l| match l {
+            0 => 0,
+            l => u32::try_from(first_line + l as usize - 1).unwrap_or(0),
+        }));
+        self.col.extend_from_slice(&other.col);
+        true
+    }
 }
 
 /// A scene split into plain surfaces (a [`SurfaceTable`]) and every other object (`rest`);
