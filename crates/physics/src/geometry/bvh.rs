@@ -43,6 +43,8 @@ use obvhs::{
     ray::{Ray as BvhRay, RayHit},
 };
 
+use rayon::prelude::*;
+
 use super::ray::{Hit, Ray};
 use super::shapes::{AnalyticGeom, Object, ShapeError, ShapeRef, TriGeom, flat_vertices};
 use super::triangulate::{newell_normal, triangulate_into};
@@ -214,6 +216,22 @@ fn gather_in_place<T: Copy>(v: &mut Vec<T>, from: &[u32]) {
     }
 }
 
+/// Fewest shapes one thread of the build reads at a time.
+const PIECE: usize = 1 << 13;
+
+/// `f` over consecutive ranges covering `0..n`, on every core, the results in order.
+fn in_pieces<T: Send>(n: usize, f: impl Fn(std::ops::Range<usize>) -> T + Sync) -> Vec<T> {
+    let size = n
+        .div_ceil(4 * rayon::current_num_threads())
+        .max(PIECE)
+        .max(1);
+    let starts: Vec<usize> = (0..n).step_by(size).collect();
+    starts
+        .par_iter()
+        .map(|&a| f(a..(a + size).min(n)))
+        .collect()
+}
+
 /// What a primitive is, before the BVH orders them: a triangle of object `.0` (vertex
 /// numbers into its polygon), an analytic object, or a placed BVH.
 #[derive(Debug, Clone, Copy)]
@@ -224,8 +242,8 @@ enum PrimSrc {
 }
 
 /// The surfaces a BVH is built over: `count` of them, surface `i` as a borrowed shape and
-/// the id its hits report.
-pub trait ShapeSource {
+/// the id its hits report. Shared between the build's threads.
+pub trait ShapeSource: Sync {
     fn count(&self) -> usize;
     fn get(&self, i: usize) -> (ShapeRef<'_>, u32);
 }
@@ -365,17 +383,32 @@ impl Bvh {
             .filter(|p| p.bvh.cwbvh.is_some())
             .collect();
         let n = objects.count();
-        let mut scratch: Vec<Vec3> = Vec::new();
+        // The shapes are read in pieces on every core, and the pieces' results joined in
+        // order: the first error is the one a serial loop meets first, and the minima,
+        // maxima, primitives and boxes are the very values it computes (issue 18).
+        let pieces = in_pieces(n, |range| {
+            let mut scratch: Vec<Vec3> = Vec::new();
+            let mut lo = Vec3::splat(f64::INFINITY);
+            let mut hi = Vec3::splat(f64::NEG_INFINITY);
+            for index in range {
+                let (shape, id) = objects.get(index);
+                if validate {
+                    shape.validate(&mut scratch).map_err(|error| BuildError {
+                        index,
+                        id,
+                        error,
+                    })?;
+                }
+                let (a, b) = shape.bounds();
+                lo = lo.min(a);
+                hi = hi.max(b);
+            }
+            Ok((lo, hi))
+        });
         let mut lo = Vec3::splat(f64::INFINITY);
         let mut hi = Vec3::splat(f64::NEG_INFINITY);
-        for index in 0..n {
-            let (shape, id) = objects.get(index);
-            if validate {
-                shape
-                    .validate(&mut scratch)
-                    .map_err(|error| BuildError { index, id, error })?;
-            }
-            let (a, b) = shape.bounds();
+        for piece in pieces {
+            let (a, b) = piece?;
             lo = lo.min(a);
             hi = hi.max(b);
         }
@@ -404,38 +437,49 @@ impl Bvh {
         // Pass 1: what each primitive is (16 bytes) and its box. The primitives themselves
         // (72-byte triangles) are made only in pass 2, in leaf order, so the two never
         // coexist with the builder's own arrays (issue 18: peak memory of 1M triangles).
-        let mut srcs: Vec<PrimSrc> = Vec::with_capacity(n + placed.len());
-        let mut tris: Vec<[usize; 3]> = Vec::new();
-        let mut boxes: Vec<Aabb> = Vec::with_capacity(n + placed.len());
         let to_aabb = |a: Vec3, b: Vec3| {
             let (a, b) = (a - Vec3::splat(pad), b + Vec3::splat(pad));
             Aabb::new(a.to_f32().into(), b.to_f32().into())
         };
-        for index in 0..n {
-            let obj = index as u32;
-            let (shape, id) = objects.get(index);
-            match shape {
-                ShapeRef::Polygon(flat) => {
-                    scratch.clear();
-                    scratch.extend(flat_vertices(flat).map(|p| p - centre));
-                    let v = &scratch;
-                    triangulate_into(v, &mut tris).map_err(|e| BuildError {
-                        index,
-                        id,
-                        error: ShapeError::Polygon(e),
-                    })?;
-                    for &[a, b, c] in &tris {
-                        let (pa, pb, pc) = (v[a], v[b], v[c]);
-                        srcs.push(PrimSrc::Tri(obj, [a as u32, b as u32, c as u32]));
-                        boxes.push(to_aabb(pa.min(pb).min(pc), pa.max(pb).max(pc)));
+        let pieces = in_pieces(n, |range| {
+            let mut srcs: Vec<PrimSrc> = Vec::with_capacity(range.len());
+            let mut boxes: Vec<Aabb> = Vec::with_capacity(range.len());
+            let mut scratch: Vec<Vec3> = Vec::new();
+            let mut tris: Vec<[usize; 3]> = Vec::new();
+            for index in range {
+                let obj = index as u32;
+                let (shape, id) = objects.get(index);
+                match shape {
+                    ShapeRef::Polygon(flat) => {
+                        scratch.clear();
+                        scratch.extend(flat_vertices(flat).map(|p| p - centre));
+                        let v = &scratch;
+                        triangulate_into(v, &mut tris).map_err(|e| BuildError {
+                            index,
+                            id,
+                            error: ShapeError::Polygon(e),
+                        })?;
+                        for &[a, b, c] in &tris {
+                            let (pa, pb, pc) = (v[a], v[b], v[c]);
+                            srcs.push(PrimSrc::Tri(obj, [a as u32, b as u32, c as u32]));
+                            boxes.push(to_aabb(pa.min(pb).min(pc), pa.max(pb).max(pc)));
+                        }
+                    }
+                    shape => {
+                        let (a, b) = shape.bounds();
+                        srcs.push(PrimSrc::Analytic(obj));
+                        boxes.push(to_aabb(a - centre, b - centre));
                     }
                 }
-                shape => {
-                    let (a, b) = shape.bounds();
-                    srcs.push(PrimSrc::Analytic(obj));
-                    boxes.push(to_aabb(a - centre, b - centre));
-                }
             }
+            Ok((srcs, boxes))
+        });
+        let mut srcs: Vec<PrimSrc> = Vec::with_capacity(n + placed.len());
+        let mut boxes: Vec<Aabb> = Vec::with_capacity(n + placed.len());
+        for piece in pieces {
+            let (s, b) = piece?;
+            srcs.extend_from_slice(&s);
+            boxes.extend_from_slice(&b);
         }
         for (k, p) in placed.iter().enumerate() {
             let (a, b) = p.bounds();
@@ -453,54 +497,64 @@ impl Bvh {
             let k = 3 * k as usize;
             Vec3::new(flat[k], flat[k + 1], flat[k + 2]) - centre
         };
+        let prim_of = |src: &PrimSrc| match *src {
+            PrimSrc::Tri(obj, [a, b, c]) => {
+                let ShapeRef::Polygon(flat) = objects.get(obj as usize).0 else {
+                    unreachable!("triangles come from polygons")
+                };
+                Prim {
+                    geom: PrimGeom::Tri(TriGeom::new(
+                        vertex(flat, a),
+                        vertex(flat, b),
+                        vertex(flat, c),
+                    )),
+                    obj,
+                }
+            }
+            PrimSrc::Analytic(obj) => Prim {
+                geom: PrimGeom::Analytic(
+                    AnalyticGeom::new(objects.get(obj as usize).0, centre)
+                        .expect("non-polygon shapes always have an analytic form"),
+                ),
+                obj,
+            },
+            PrimSrc::Placed(k) => Prim {
+                geom: PrimGeom::Placed(k),
+                obj: u32::MAX,
+            },
+        };
+        // A polygon's normal from all its vertices (its triangles share it); none for
+        // analytic shapes, whose normal varies.
+        let info_of = |scratch: &mut Vec<Vec3>, obj: usize| {
+            let (shape, id) = objects.get(obj);
+            let normal = match shape {
+                ShapeRef::Polygon(flat) => {
+                    scratch.clear();
+                    scratch.extend(flat_vertices(flat).map(|p| p - centre));
+                    newell_normal(scratch).normalize()
+                }
+                _ => Vec3::ZERO,
+            };
+            ObjInfo { id, normal }
+        };
         let mut prims: Vec<Prim> = Vec::with_capacity(srcs.len());
         let mut infos: Vec<ObjInfo> = Vec::with_capacity(n);
-        for src in &srcs {
-            let prim = match *src {
-                PrimSrc::Tri(obj, [a, b, c]) => {
-                    let (shape, id) = objects.get(obj as usize);
-                    let ShapeRef::Polygon(flat) = shape else {
-                        unreachable!("triangles come from polygons")
-                    };
-                    // An object's triangles are consecutive: the first one brings its normal.
-                    if infos.len() == obj as usize {
-                        scratch.clear();
-                        scratch.extend(flat_vertices(flat).map(|p| p - centre));
-                        let normal = newell_normal(&scratch).normalize();
-                        infos.push(ObjInfo { id, normal });
-                    }
-                    Prim {
-                        geom: PrimGeom::Tri(TriGeom::new(
-                            vertex(flat, a),
-                            vertex(flat, b),
-                            vertex(flat, c),
-                        )),
-                        obj,
-                    }
-                }
-                PrimSrc::Analytic(obj) => {
-                    let (shape, id) = objects.get(obj as usize);
-                    infos.push(ObjInfo {
-                        id,
-                        normal: Vec3::ZERO,
-                    });
-                    Prim {
-                        geom: PrimGeom::Analytic(
-                            AnalyticGeom::new(shape, centre)
-                                .expect("non-polygon shapes always have an analytic form"),
-                        ),
-                        obj,
-                    }
-                }
-                PrimSrc::Placed(k) => Prim {
-                    geom: PrimGeom::Placed(k),
-                    obj: u32::MAX,
-                },
-            };
-            prims.push(prim);
-        }
+        rayon::join(
+            || {
+                srcs.par_iter()
+                    .with_min_len(PIECE)
+                    .map(prim_of)
+                    .collect_into_vec(&mut prims)
+            },
+            || {
+                (0..n)
+                    .into_par_iter()
+                    .with_min_len(PIECE)
+                    .map_init(Vec::new, info_of)
+                    .collect_into_vec(&mut infos)
+            },
+        );
         drop(srcs);
-        debug_assert_eq!(infos.len(), n);
         gather_in_place(&mut prims, &cwbvh.primitive_indices);
         // Traversal hands out leaf positions, which now index `prims` directly.
         let mut cwbvh = cwbvh;
