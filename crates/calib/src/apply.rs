@@ -5,7 +5,7 @@
 //! | transmittance | every `glass` transmissivity times the scale (capped at 1) |
 //! | walls / ceiling / floor / ground-albedo | the class's material colours times the scale (capped at 0.95) |
 //! | obstruction | vertical facets (plastic, reflectance [`OBSTRUCTION_REFLECTANCE`]) on a circle of radius [`OBSTRUCTION_RADIUS`] around the windows, as high as the fitted horizon altitude seen from the window centres |
-//! | skyline | vertical facets (plastic, reflectance [`OBSTRUCTION_REFLECTANCE`]) one per sector on a circle of the fitted distance around the windows' centre, each as high as its sector's altitude seen from the windows' centre (the geometry the effect models) |
+//! | skyline | vertical facets (plastic, the fitted facade reflectance) one per sector on a circle of the fitted distance around the windows' centre, each as high as its sector's altitude seen from the windows' centre (the geometry the effect models) |
 //! | overhang | a horizontal plate `above` the window head, `depth` deep, wider than the window by `overrun` each side |
 //! | local-obstruction | an opaque box standing on the floor along the fitted plan segment, as thick and as high as fitted (plastic, reflectance 0.5); the older `FRACTION,ID+ID` form: a box 0.1 m thick between the sensors and the window, as high as blocks that fraction of the window's elevation span seen from them |
 //! | tint | a `spectrum` pattern (the fitted transmittance shape and level) on every `glass` material |
@@ -151,17 +151,12 @@ pub fn apply(
                 start,
                 step,
                 alts,
+                reflectance,
                 ..
             } => {
                 let (c, zref) = window_centre(room, sensors);
                 let m = format!("rcalib_skyline_mat_{k}");
-                add(
-                    &mut s,
-                    &mut added,
-                    "void",
-                    m.clone(),
-                    plastic(OBSTRUCTION_REFLECTANCE),
-                )?;
+                add(&mut s, &mut added, "void", m.clone(), plastic(*reflectance))?;
                 let p = |a: f64, z: f64| {
                     let a = a.to_radians();
                     [c[0] + distance * a.sin(), c[1] + distance * a.cos(), z]

@@ -475,7 +475,12 @@ pub fn refine(m: &Model, ex: &Explanation, exact: &[f64], sigma_sensor: f64) -> 
             }
         })
         .collect();
-    let f = Fitter::new(m, sigma_sensor).with_correction(corr);
+    let mut f = Fitter::new(m, sigma_sensor).with_correction(corr);
+    // The correction holds for the re-simulated profile's distance only.
+    f.skyline_distance = chosen.iter().find_map(|e| match e {
+        Effect::Skyline { distance, .. } => Some(*distance),
+        _ => None,
+    });
     for _ in 0..2 {
         for i in 0..chosen.len() {
             let fam = chosen[i].family();

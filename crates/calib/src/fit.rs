@@ -23,6 +23,10 @@ pub struct Fitter<'a> {
     /// (overhang, obstruction) switches it on and off from one parameter value to the next,
     /// which a fixed factor would freeze.
     pub correction: Option<Vec<f64>>,
+    /// The skyline profile's distance, when it is fixed ([`super::explain::refine`]: a
+    /// correction made by re-simulating a profile at one distance holds for that distance
+    /// only). `None`: the profile fit chooses it.
+    pub skyline_distance: Option<f64>,
 }
 
 impl<'a> Fitter<'a> {
@@ -33,6 +37,7 @@ impl<'a> Fitter<'a> {
             meas: m.measured(),
             sensor: m.obs.iter().map(|o| o.sensor).collect(),
             correction: None,
+            skyline_distance: None,
         }
     }
 

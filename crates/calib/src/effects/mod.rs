@@ -47,7 +47,8 @@ pub enum Effect {
     /// A skyline profile ([`skyline`]): altitude `alts[k]` (degrees, seen from the
     /// windows' centre) between azimuths `start + k step` and `start + (k + 1) step`, on a cylinder
     /// `distance` metres around the windows' centre. `sd`: the sectors' posterior standard
-    /// deviations (empty when not fitted); `edf`: its effective parameters for the BIC.
+    /// deviations (empty when not fitted); `edf`: its effective parameters for the BIC;
+    /// `reflectance`: its facade's (Lambertian, grey).
     Skyline {
         distance: f64,
         start: f64,
@@ -55,6 +56,7 @@ pub enum Effect {
         alts: Vec<f64>,
         sd: Vec<f64>,
         edf: f64,
+        reflectance: f64,
     },
     /// Reflectance of a surface class times `scale`.
     Reflectance { class: SurfaceClass, scale: f64 },
@@ -213,8 +215,9 @@ impl Effect {
                 start,
                 step,
                 alts,
+                reflectance,
                 ..
-            } => skyline::spec(*distance, *start, *step, alts),
+            } => skyline::spec(*distance, *start, *step, alts, *reflectance),
             Effect::Reflectance { scale, .. } => format!("{}:{scale:.3}", self.family()),
             Effect::Overhang {
                 window,
@@ -270,8 +273,9 @@ impl Effect {
                 alts,
                 sd,
                 edf,
+                reflectance,
             } => format!(
-                "distance = {distance:.0} m, sectors of {step:.0} deg from azimuth {start:.0} E of N, \
+                "distance = {distance:.0} m, facade reflectance = {reflectance:.2}, sectors of {step:.0} deg from azimuth {start:.0} E of N, \
                  altitude (deg) by sector centre azimuth: {}; {edf:.1} effective parameters",
                 skyline::shown(alts)
                     .map(|i| {
@@ -324,7 +328,7 @@ impl Effect {
         let bad = |what: &str| {
             Error::Usage(format!(
                 "--effect '{spec}': {what}; expected one of transmittance:SCALE, \
-                 obstruction:AZIMUTH,HALF_WIDTH,ALTITUDE, skyline:DISTANCE,START,STEP,ALT,ALT,..., \
+                 obstruction:AZIMUTH,HALF_WIDTH,ALTITUDE, skyline:DISTANCE,START,STEP,ALT,ALT,...[/REFLECTANCE], \
                  walls|ceiling|floor|ground-albedo:SCALE, \
                  overhang:DEPTH[,WINDOW[,ABOVE[,OVERRUN]]], local-obstruction:X0,Y0,X1,Y1,TOP[,THICK] \
                  (or the older FRACTION,ID+ID), sensor-fault:ID=F+ID=F, \
@@ -387,7 +391,16 @@ impl Effect {
                 },
                 _ => return Err(bad("expected AZIMUTH,HALF_WIDTH>0,ALTITUDE 0..90")),
             },
-            "skyline" => skyline::parse(&nums(params)?).map_err(|m| bad(&m))?,
+            "skyline" => {
+                // The facade's reflectance after a slash (without: apply's default).
+                let (alts, rho) = params.split_once('/').unwrap_or((params, ""));
+                let rho = if rho.is_empty() {
+                    None
+                } else {
+                    Some(one(rho)?)
+                };
+                skyline::parse(&nums(alts)?, rho).map_err(|m| bad(&m))?
+            }
             "overhang" => {
                 let mut parts = params.splitn(4, ',');
                 let d = parts.next().unwrap_or_default();

@@ -38,6 +38,11 @@
 //! distance. The same `edf + 1` is the effect's parameter count in explain's BIC, so a
 //! rough profile chasing noise pays for every degree of freedom it uses. Sector
 //! uncertainties are the posterior standard deviations `sqrt(diag((A + lambda P)^-1))`.
+//! The facade's reflectance is fitted with the sectors (a golden-section search before and
+//! after each solve; the facade's light is linear in it) and counts as one more parameter:
+//! a fixed dark facade made a near building's light too low to reach with any profile
+//! (docs/rcalib-effects.md). In the refinement ([`crate::explain::refine`]) the distance stays
+//! where the fit put it, as the correction is made for the facets there.
 
 use super::obstruction::{
     CELLS, Horizon, facade_luminance, sky_luminance, window_azimuths, wrap_deg,
@@ -66,6 +71,16 @@ pub const DISTANCES: [f64; 7] = [8.0, 12.0, 20.0, 35.0, 60.0, 120.0, 300.0];
 pub const NEAREST: f64 = 5.0;
 /// Smoothness weights tried (per squared degree of second difference), smooth to rough.
 pub const LAMBDAS: [f64; 7] = [100.0, 10.0, 1.0, 0.1, 0.01, 1e-3, 1e-4];
+
+/// Range of the facade reflectance the fit searches (and a spec may give): from a dark
+/// facade to a white one. What the facade sends back is linear in it.
+pub const RHO_MIN: f64 = 0.02;
+pub const RHO_MAX: f64 = 0.9;
+
+/// The facade reflectance a fit starts from: a mid-grey urban facade (0.2-0.35 for brick,
+/// concrete and glazed facades; CIBSE LG10 (2014), Table 5.1 gives 0.2-0.4 for exterior
+/// surfaces).
+const RHO_START: f64 = 0.3;
 
 /// The smoothness under which the distances are compared.
 const SCREEN_LAMBDA: f64 = 0.01;
@@ -333,21 +348,27 @@ impl Cache {
     }
 }
 
-/// The distances of [`DISTANCES`] at least [`NEAREST`] times the farthest sensor's (or
-/// window's) distance from the windows' centre (the farthest one at least).
-pub fn distances(m: &Model) -> Vec<f64> {
+/// The farthest sensor's (or window's) horizontal distance from the windows' centre, at
+/// least 1 m.
+fn farthest(m: &Model) -> f64 {
     let (c, _) = crate::apply::window_centre(&m.room, &m.sensors);
-    let far = m
-        .sensors
+    m.sensors
         .iter()
         .map(|s| s.ray.org)
         .chain(m.room.windows.iter().map(|w| w.centroid))
         .map(|p| ((p[0] - c[0]).powi(2) + (p[1] - c[1]).powi(2)).sqrt())
-        .fold(0.0, f64::max);
+        .fold(1.0, f64::max)
+}
+
+/// The distances of [`DISTANCES`] at least [`NEAREST`] times the farthest sensor's (or
+/// window's) distance from the windows' centre (the farthest one at least): those the
+/// coefficient model's fit chooses among.
+pub fn distances(m: &Model) -> Vec<f64> {
+    let far = farthest(m);
     let v: Vec<f64> = DISTANCES
         .iter()
         .copied()
-        .filter(|d| *d >= NEAREST * far.max(1.0))
+        .filter(|d| *d >= NEAREST * far)
         .collect();
     if v.is_empty() {
         vec![DISTANCES[DISTANCES.len() - 1].max(NEAREST * far)]
@@ -364,12 +385,16 @@ pub fn apply(e: &Effect, m: &Model, w: &mut Weights) {
         start,
         step,
         alts,
+        reflectance,
         ..
     } = e
     else {
         return;
     };
     let (start, step) = (*start, *step);
+    // The cached facade luminances are for apply's default reflectance; the facade's
+    // light is linear in it.
+    let k = reflectance / crate::apply::OBSTRUCTION_REFLECTANCE;
     let tp = |az: f64| top(start, step, alts, az);
     let highest = alts.iter().copied().fold(0.0, f64::max);
     let cache = m.skyline();
@@ -387,7 +412,7 @@ pub fn apply(e: &Effect, m: &Model, w: &mut Weights) {
     let mut fill = Fill {
         ind: vec![0.0; np],
         dir: vec![0.0; ns * np],
-        ratio: cache.ratio.clone(),
+        ratio: cache.ratio.iter().map(|r| r * k).collect(),
     };
     for i in 1..np.min(hz.cells.len()) {
         let Some(pc) = hz.cells[i].as_ref() else {
@@ -482,6 +507,8 @@ struct Problem<'a> {
     f: &'a Fitter<'a>,
     w0: &'a Weights,
     distance: f64,
+    /// The facade's reflectance (held while the sectors move; see [`Problem::best_rho`]).
+    rho: f64,
     start: f64,
     lambda: f64,
     /// `D2^T D2`.
@@ -496,8 +523,39 @@ impl Problem<'_> {
             step: STEP,
             alts: alts.to_vec(),
             sd: Vec::new(),
-            edf: alts.len() as f64 + 1.0,
+            edf: alts.len() as f64 + 2.0,
+            reflectance: self.rho,
         }
+    }
+
+    /// The facade reflectance minimising `-2 ln L` for the sectors `alts` (golden-section
+    /// search over [`RHO_MIN`, `RHO_MAX`]; the likelihood is smooth and one-humped in it: the
+    /// facade's light is linear in the reflectance).
+    fn best_rho(&mut self, alts: &[f64]) {
+        let mut at = |rho: f64| {
+            self.rho = rho;
+            self.objective(alts).1
+        };
+        let g = (5f64.sqrt() - 1.0) / 2.0;
+        let (mut a, mut b) = (RHO_MIN, RHO_MAX);
+        let (mut x1, mut x2) = (b - g * (b - a), a + g * (b - a));
+        let (mut f1, mut f2) = (at(x1), at(x2));
+        for _ in 0..24 {
+            if f1 <= f2 {
+                b = x2;
+                x2 = x1;
+                f2 = f1;
+                x1 = b - g * (b - a);
+                f1 = at(x1);
+            } else {
+                a = x1;
+                x1 = x2;
+                f1 = f2;
+                x2 = a + g * (b - a);
+                f2 = at(x2);
+            }
+        }
+        self.rho = if f1 <= f2 { x1 } else { x2 };
     }
 
     fn sim(&self, alts: &[f64]) -> Vec<f64> {
@@ -668,8 +726,6 @@ fn second_differences(k: usize) -> DMatrix<f64> {
 /// The profile given the other effects, started from the flat-topped `sector`
 /// ([`Effect::Obstruction`]); see the module documentation.
 pub fn fit(f: &Fitter, base: &[Effect], sector: &Effect) -> Option<Effect> {
-    let base = without(base, "obstruction");
-    let w0 = f.m.weights(&base);
     let (start, k) = sectors(f.m);
     let init: Vec<f64> = (0..k)
         .map(|i| {
@@ -684,49 +740,70 @@ pub fn fit(f: &Fitter, base: &[Effect], sector: &Effect) -> Option<Effect> {
             }
         })
         .collect();
+    fit_from(f, base, init)
+}
+
+/// [`fit`] from the sector altitudes `init` (one per sector of [`sectors`]).
+fn fit_from(f: &Fitter, base: &[Effect], init: Vec<f64>) -> Option<Effect> {
+    let base = without(base, "obstruction");
+    let w0 = f.m.weights(&base);
+    let (start, k) = sectors(f.m);
     let pen = second_differences(k);
     let n = f.score(&base).n.max(1) as f64;
-    let problem = |distance: f64, lambda: f64| Problem {
+    let problem = |distance: f64, lambda: f64, rho: f64| Problem {
         f,
         w0: &w0,
         distance,
+        rho,
         start,
         lambda,
         pen: pen.clone(),
     };
-    // The distance: a short fit at a weak smoothness from the sector at each.
-    let mut best_d: Option<(f64, f64, Vec<f64>)> = None;
-    for d in distances(f.m) {
-        let p = problem(d, SCREEN_LAMBDA);
+    // The distance: a short fit at a weak smoothness from the start at each, the facade's
+    // reflectance searched before and after.
+    let mut best_d: Option<(f64, f64, Vec<f64>, f64)> = None;
+    let ds = f
+        .skyline_distance
+        .map_or_else(|| distances(f.m), |d| vec![d]);
+    for d in ds {
+        let mut p = problem(d, SCREEN_LAMBDA, RHO_START);
         let mut a = init.clone();
+        p.best_rho(&a);
         p.solve(&mut a, 4);
+        p.best_rho(&a);
         let (q, _) = p.objective(&a);
         if best_d.as_ref().is_none_or(|b| q < b.0) {
-            best_d = Some((q, d, a));
+            best_d = Some((q, d, a, p.rho));
         }
     }
-    let (_, distance, mut alts) = best_d?;
+    let (_, distance, mut alts, mut rho) = best_d?;
     // The smoothness: by BIC with the effective parameters, smooth to rough, each fit
-    // started from the previous one.
-    let mut best: Option<(f64, Vec<f64>, Vec<f64>, f64)> = None;
+    // started from the previous one (the reflectance re-searched after each).
+    // (BIC, sector altitudes, their standard deviations, edf, reflectance).
+    type Best = (f64, Vec<f64>, Vec<f64>, f64, f64);
+    let mut best: Option<Best> = None;
     for lambda in LAMBDAS {
-        let p = problem(distance, lambda);
+        let mut p = problem(distance, lambda, rho);
         p.solve(&mut alts, 8);
+        p.best_rho(&alts);
+        rho = p.rho;
         let (_, m2ll) = p.objective(&alts);
         let (edf, sd) = p.edf(&alts);
-        let bic = m2ll + (edf + 1.0) * n.ln();
+        // The distance and the reflectance besides the sectors.
+        let bic = m2ll + (edf + 2.0) * n.ln();
         if best.as_ref().is_none_or(|b| bic < b.0) {
-            best = Some((bic, alts.clone(), sd, edf));
+            best = Some((bic, alts.clone(), sd, edf, rho));
         }
     }
-    let (_, alts, sd, edf) = best?;
+    let (_, alts, sd, edf, reflectance) = best?;
     Some(Effect::Skyline {
         distance,
         start,
         step: STEP,
         alts,
         sd,
-        edf: edf + 1.0,
+        edf: edf + 2.0,
+        reflectance,
     })
 }
 
@@ -752,9 +829,9 @@ pub fn fit_obstruction(f: &Fitter, base: &[Effect]) -> Option<Effect> {
 }
 
 /// `skyline:DISTANCE,START,STEP,ALT,ALT,...` (see [`Effect::spec`]).
-pub fn spec(distance: f64, start: f64, step: f64, alts: &[f64]) -> String {
+pub fn spec(distance: f64, start: f64, step: f64, alts: &[f64], reflectance: f64) -> String {
     format!(
-        "skyline:{distance:.1},{start:.1},{step:.1},{}",
+        "skyline:{distance:.1},{start:.1},{step:.1},{}/{reflectance:.2}",
         alts.iter()
             .map(|a| format!("{a:.1}"))
             .collect::<Vec<_>>()
@@ -763,7 +840,13 @@ pub fn spec(distance: f64, start: f64, step: f64, alts: &[f64]) -> String {
 }
 
 /// Parse the numbers of a `skyline:` spec.
-pub fn parse(v: &[f64]) -> std::result::Result<Effect, String> {
+pub fn parse(v: &[f64], reflectance: Option<f64>) -> std::result::Result<Effect, String> {
+    let reflectance = reflectance.unwrap_or(crate::apply::OBSTRUCTION_REFLECTANCE);
+    if !(0.0..=RHO_MAX).contains(&reflectance) {
+        return Err(format!(
+            "the facade's REFLECTANCE must be in [0, {RHO_MAX}]"
+        ));
+    }
     let [distance, start, step, alts @ ..] = v else {
         return Err("expected DISTANCE,START,STEP,ALT,ALT,...".into());
     };
@@ -785,7 +868,8 @@ pub fn parse(v: &[f64]) -> std::result::Result<Effect, String> {
         step: *step,
         alts: alts.to_vec(),
         sd: Vec::new(),
-        edf: alts.len() as f64 + 1.0,
+        edf: alts.len() as f64 + 2.0,
+        reflectance,
     })
 }
 
@@ -832,25 +916,32 @@ mod tests {
 
     #[test]
     fn spec_round_trips() {
-        let e = parse(&[35.0, 90.0, 10.0, 0.0, 12.5, 30.0, 0.0]).unwrap();
+        let e = parse(&[35.0, 90.0, 10.0, 0.0, 12.5, 30.0, 0.0], Some(0.25)).unwrap();
         let Effect::Skyline {
             distance,
             start,
             step,
             alts,
+            reflectance,
             ..
         } = &e
         else {
             panic!()
         };
         assert_eq!(
-            spec(*distance, *start, *step, alts),
-            "skyline:35.0,90.0,10.0,0.0,12.5,30.0,0.0"
+            spec(*distance, *start, *step, alts, *reflectance),
+            "skyline:35.0,90.0,10.0,0.0,12.5,30.0,0.0/0.25"
         );
-        assert!(parse(&[35.0, 90.0, 10.0, 95.0, 0.0]).is_err());
-        assert!(parse(&[0.0, 90.0, 10.0, 5.0, 0.0]).is_err());
-        assert!(parse(&[35.0, 90.0, 10.0]).is_err());
-        assert!(parse(&[35.0, 90.0, 90.0, 1.0, 1.0, 1.0, 1.0, 1.0]).is_err());
+        // Without a reflectance: apply's default.
+        let Ok(Effect::Skyline { reflectance, .. }) = parse(&[35.0, 90.0, 10.0, 5.0], None) else {
+            panic!()
+        };
+        assert_eq!(reflectance, crate::apply::OBSTRUCTION_REFLECTANCE);
+        assert!(parse(&[35.0, 90.0, 10.0, 5.0], Some(1.5)).is_err());
+        assert!(parse(&[35.0, 90.0, 10.0, 95.0, 0.0], None).is_err());
+        assert!(parse(&[0.0, 90.0, 10.0, 5.0, 0.0], None).is_err());
+        assert!(parse(&[35.0, 90.0, 10.0], None).is_err());
+        assert!(parse(&[35.0, 90.0, 90.0, 1.0, 1.0, 1.0, 1.0, 1.0], None).is_err());
     }
 
     /// Where a ray meets a planar convex polygon (vertices in order): distance along it.
@@ -897,7 +988,7 @@ mod tests {
         let alts = vec![
             0.0, 22.0, 30.0, 34.0, 35.0, 35.0, 34.0, 31.0, 28.0, 12.0, 0.0, 0.0,
         ];
-        let e = parse(&[&[distance, start, step][..], &alts[..]].concat()).unwrap();
+        let e = parse(&[&[distance, start, step][..], &alts[..]].concat(), None).unwrap();
         let text = crate::apply::apply(&scene, &room, &case.sensors, &[e], "test").unwrap();
         let applied = crate::cases::scene_of(&text).unwrap();
         let facets: Vec<Vec<[f64; 3]>> = applied
