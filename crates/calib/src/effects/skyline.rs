@@ -47,7 +47,7 @@
 use super::obstruction::{
     CELLS, Horizon, facade_luminance, sky_luminance, window_azimuths, wrap_deg,
 };
-use super::{Effect, smooth_step};
+use super::{Effect, golden, smooth_step};
 use crate::fit::{Fitter, without};
 use crate::model::{Fill, Model, Weights};
 use crate::room::dot;
@@ -536,26 +536,7 @@ impl Problem<'_> {
             self.rho = rho;
             self.objective(alts).1
         };
-        let g = (5f64.sqrt() - 1.0) / 2.0;
-        let (mut a, mut b) = (RHO_MIN, RHO_MAX);
-        let (mut x1, mut x2) = (b - g * (b - a), a + g * (b - a));
-        let (mut f1, mut f2) = (at(x1), at(x2));
-        for _ in 0..24 {
-            if f1 <= f2 {
-                b = x2;
-                x2 = x1;
-                f2 = f1;
-                x1 = b - g * (b - a);
-                f1 = at(x1);
-            } else {
-                a = x1;
-                x1 = x2;
-                f1 = f2;
-                x2 = a + g * (b - a);
-                f2 = at(x2);
-            }
-        }
-        self.rho = if f1 <= f2 { x1 } else { x2 };
+        self.rho = golden(&mut at, RHO_MIN, RHO_MAX, 24).0;
     }
 
     fn sim(&self, alts: &[f64]) -> Vec<f64> {
