@@ -275,6 +275,16 @@ impl<'t> Source<'t> {
         }
     }
 
+    /// The file's number in `table`, asked of the table once per file.
+    fn file_number_in(&self, table: &mut SurfaceTable) -> Result<u32> {
+        if let Some(k) = self.file_number.get() {
+            return Ok(k);
+        }
+        let k = table.file_number(&self.name)?;
+        self.file_number.set(Some(k));
+        Ok(k)
+    }
+
     fn rest(&self) -> &'t str {
         self.text.get(self.pos..).unwrap_or("")
     }
@@ -768,14 +778,7 @@ impl<'o> Loader<'o> {
         let (line, _) = src.line_col(piece.start);
         let first_line = line + 1 - piece.start_line;
         if !piece.table.is_empty() {
-            let number = match src.file_number.get() {
-                Some(k) => k,
-                None => {
-                    let k = table.file_number(&src.name)?;
-                    src.file_number.set(Some(k));
-                    k
-                }
-            };
+            let number = src.file_number_in(table)?;
             let base = self.objects.len() + table.len();
             if !table.append(&piece.table, &modifiers, base, first_line, number) {
                 return Ok(());
@@ -1009,14 +1012,7 @@ impl<'o> Loader<'o> {
         }
         if let Some(table) = &mut self.table {
             if is_plain_surface(otype) {
-                let number = match src.file_number.get() {
-                    Some(k) => k,
-                    None => {
-                        let k = table.file_number(&src.name)?;
-                        src.file_number.set(Some(k));
-                        k
-                    }
-                };
+                let number = src.file_number_in(table)?;
                 let index = self.objects.len() + table.len();
                 table.push(otype, modifier, index, &reals, &id, number, line, col)?;
                 self.reals = reals;
