@@ -78,6 +78,9 @@ pub struct Model {
     pub sight: std::sync::OnceLock<effects::local::Sight>,
     /// The skyline profile's geometry and facade luminance, computed on first use.
     pub skyline: std::sync::OnceLock<effects::skyline::Cache>,
+    /// The part of the light that met the exterior ground, computed on first use
+    /// ([`Model::ground_part`]).
+    pub ground: std::sync::OnceLock<Option<std::sync::Arc<ReflDelta>>>,
 }
 
 /// The light an exterior obstruction's facade sends towards the room in place of the sky
@@ -91,6 +94,9 @@ pub struct Fill {
     pub dir: Vec<f64>,
     /// `[t][p]`
     pub ratio: Vec<f64>,
+    /// Per patch: the hidden share of the light that reached the windows from the
+    /// exterior ground (set with [`Weights::gnd`]; `None`: as `ind`).
+    pub gnd: Option<Vec<f64>>,
 }
 
 /// Multipliers the effects set (see [`super::effects`]); all 1 for the model as given.
@@ -108,6 +114,12 @@ pub struct Weights {
     pub sun_win_ind: Vec<f64>,
     /// `[s][t]` direct sun past an overhang.
     pub sun_win_dir: Option<Vec<f64>>,
+    /// Per patch: share of the patch's light that reaches the windows by way of the
+    /// exterior ground still doing so (a skyline shades the ground in front of the room
+    /// from other directions than the windows'); `None`: as `win_ind`.
+    pub gnd: Option<Vec<f64>>,
+    /// Per step: the same for the sun; `None`: as `sun_win_ind`.
+    pub sun_gnd: Option<Vec<f64>>,
     /// Per sensor: direct light left by a local obstruction.
     pub local: Vec<f64>,
     /// Per sensor: inter-reflected light left by a local obstruction (the part of the
@@ -171,6 +183,7 @@ impl Model {
             horizon: std::sync::OnceLock::new(),
             sight: std::sync::OnceLock::new(),
             skyline: std::sync::OnceLock::new(),
+            ground: std::sync::OnceLock::new(),
         })
     }
 
@@ -191,6 +204,22 @@ impl Model {
             .get_or_init(|| effects::skyline::Cache::new(self))
     }
 
+    /// The light that met the exterior ground on its way, `[s][t][p]` sky and `[s][t]`
+    /// sun in lux (minus what the records give with the ground class black: every path
+    /// touching the ground); `None` without records or a ground class.
+    pub fn ground_part(&self) -> Option<&ReflDelta> {
+        self.ground
+            .get_or_init(|| {
+                let gi = self.refl.as_ref()?.index(SurfaceClass::Ground)?;
+                let d = self.refl_delta(&[(gi, -1.0)])?;
+                Some(std::sync::Arc::new(ReflDelta {
+                    sky: d.sky.iter().map(|x| (-x).max(0.0)).collect(),
+                    sun: d.sun.iter().map(|x| (-x).max(0.0)).collect(),
+                }))
+            })
+            .as_deref()
+    }
+
     pub fn nsens(&self) -> usize {
         self.comps.nsens
     }
@@ -208,6 +237,8 @@ impl Model {
             win_dir: None,
             sun_win_ind: vec![1.0; nt],
             sun_win_dir: None,
+            gnd: None,
+            sun_gnd: None,
             local: vec![1.0; ns],
             local_ind: vec![1.0; ns],
             fill: None,
@@ -263,6 +294,14 @@ impl Model {
         let c = &self.comps;
         let (nt, np) = (c.nsteps, c.npatch);
         let delta = self.refl_delta(&w.refl);
+        // The ground's part is weighted on its own only when an effect set its weights;
+        // it follows the ground class's scale to first order.
+        let ground = if w.gnd.is_some() || w.sun_gnd.is_some() {
+            self.ground_part()
+        } else {
+            None
+        };
+        let kg = self.ground_scale(&w.refl);
         self.obs
             .iter()
             .map(|o| {
@@ -273,22 +312,38 @@ impl Model {
                 for p in 0..np {
                     let tot = c.sky[base + p] + delta.as_ref().map_or(0.0, |d| d.sky[base + p]);
                     let d = c.sky_direct[base + p];
+                    let g = ground.map_or(0.0, |g| (kg * g.sky[base + p]).min(tot - d).max(0.0));
+                    let wg = w.gnd.as_ref().map_or(w.win_ind[p], |v| v[p]);
                     let wd = w.win_dir.as_ref().map_or(1.0, |v| v[s * np + p]);
-                    ind += w.patch[p] * w.win_ind[p] * (tot - d);
+                    ind += w.patch[p] * (w.win_ind[p] * (tot - d - g) + wg * g);
                     dir += w.patch[p] * wd * d;
                     if let Some(f) = &w.fill {
                         let r = f.ratio[t * np + p];
-                        ind += w.patch[p] * f.ind[p] * r * (tot - d);
+                        let fg = f.gnd.as_ref().map_or(f.ind[p], |v| v[p]);
+                        ind += w.patch[p] * r * (f.ind[p] * (tot - d - g) + fg * g);
                         dir += w.patch[p] * f.dir[s * np + p] * r * d;
                     }
                 }
                 let si = c.sun_indirect[st] + delta.as_ref().map_or(0.0, |d| d.sun[st]);
+                let gs = ground.map_or(0.0, |g| (kg * g.sun[st]).min(si).max(0.0));
+                let wgs = w.sun_gnd.as_ref().map_or(w.sun_win_ind[t], |v| v[t]);
                 let swd = w.sun_win_dir.as_ref().map_or(1.0, |v| v[st]);
-                ind += w.sun[t] * w.sun_win_ind[t] * si;
+                ind += w.sun[t] * (w.sun_win_ind[t] * (si - gs) + wgs * gs);
                 dir += w.sun[t] * swd * c.sun_direct[st];
                 (ind, dir)
             })
             .collect()
+    }
+
+    /// The ground class's scale in `refl` (1 when it is not scaled).
+    fn ground_scale(&self, refl: &[(usize, f64)]) -> f64 {
+        let gi = self
+            .refl
+            .as_ref()
+            .and_then(|r| r.index(SurfaceClass::Ground));
+        refl.iter()
+            .filter(|x| Some(x.0) == gi)
+            .fold(1.0, |k, x| k * (1.0 + x.1))
     }
 
     /// What the class scales `refl` ((index into [`Refl::classes`], scale - 1)) add to the

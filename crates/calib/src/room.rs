@@ -285,7 +285,20 @@ impl Room {
 
     /// Whether the ray from `org` along `d` meets one of the [`Room::ground_polygons`].
     pub fn meets_ground(&self, org: [f64; 3], d: [f64; 3]) -> bool {
-        self.ground_polygons.iter().any(|v| polygon_hit(v, org, d))
+        self.ground_polygons
+            .iter()
+            .any(|v| polygon_hit(v, org, d).is_some())
+    }
+
+    /// Where the ray from `org` along `d` first meets one of the [`Room::ground_polygons`].
+    pub fn ground_hit(&self, org: [f64; 3], d: [f64; 3]) -> Option<[f64; 3]> {
+        let t = self
+            .ground_polygons
+            .iter()
+            .filter_map(|v| polygon_hit(v, org, d))
+            .fold(f64::INFINITY, f64::min);
+        t.is_finite()
+            .then(|| [org[0] + t * d[0], org[1] + t * d[1], org[2] + t * d[2]])
     }
 
     /// Classes that have at least one material.
@@ -432,9 +445,10 @@ pub fn scaled_scene(
     s
 }
 
-/// Whether the ray from `org` along `d` crosses the planar polygon `v` (Newell normal,
-/// then the crossing tested in the plane's dominant projection by the even-odd rule).
-fn polygon_hit(v: &[[f64; 3]], org: [f64; 3], d: [f64; 3]) -> bool {
+/// Distance along `d` at which the ray from `org` crosses the planar polygon `v`, if it
+/// does (Newell normal, then the crossing tested in the plane's dominant projection by the
+/// even-odd rule).
+fn polygon_hit(v: &[[f64; 3]], org: [f64; 3], d: [f64; 3]) -> Option<f64> {
     let mut n = [0.0; 3];
     for (k, a) in v.iter().enumerate() {
         let b = v[(k + 1) % v.len()];
@@ -444,11 +458,11 @@ fn polygon_hit(v: &[[f64; 3]], org: [f64; 3], d: [f64; 3]) -> bool {
     }
     let dn = dot(d, n);
     if dn.abs() < 1e-12 {
-        return false;
+        return None;
     }
     let t = dot(sub(v[0], org), n) / dn;
     if t <= 1e-9 {
-        return false;
+        return None;
     }
     let p = [org[0] + t * d[0], org[1] + t * d[1], org[2] + t * d[2]];
     // Drop the axis the normal is largest along.
@@ -470,7 +484,7 @@ fn polygon_hit(v: &[[f64; 3]], org: [f64; 3], d: [f64; 3]) -> bool {
             }
         }
     }
-    inside
+    inside.then_some(t)
 }
 
 #[cfg(test)]

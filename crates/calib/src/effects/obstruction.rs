@@ -258,6 +258,7 @@ pub fn apply(e: &Effect, m: &Model, w: &mut Weights) {
         ind: vec![0.0; np],
         dir: vec![0.0; ns * np],
         ratio: vec![0.0; nt * np],
+        gnd: None,
     };
     for i in 1..np.min(hz.cells.len()) {
         let Some((fa, fz)) = hz.overlaps(i, azimuth, half_width, altitude) else {
@@ -266,6 +267,9 @@ pub fn apply(e: &Effect, m: &Model, w: &mut Weights) {
         let f_ind = share(&hz.ind[i], &fa, &fz).unwrap_or(0.0);
         fill.ind[i] = f_ind * w.win_ind[i];
         w.win_ind[i] *= 1.0 - f_ind;
+        if let Some(g) = w.gnd.as_mut() {
+            g[i] *= 1.0 - f_ind;
+        }
         for s in 0..ns {
             let f = if hz.dir[s][i].is_empty() {
                 f_ind
@@ -318,17 +322,34 @@ pub fn facade_luminance(m: &Model, t: usize, n_f: [f64; 3]) -> f64 {
     let sk = &m.skies[t];
     let rho = crate::apply::OBSTRUCTION_REFLECTANCE;
     let sun_omega = 2.0 * PI * (1.0 - (0.533f64.to_radians() / 2.0).cos());
-    let mut e_f = sky_luminance(m, t, 0) * PI / 2.0;
+    let white: f64 = LUX_RGB.iter().sum();
+    let mut e_f = 0.0;
+    // Horizontal illuminance from the sky patches, and from the sun.
+    let mut e_sky = 0.0;
     for p in 1..np {
-        let c = dot(m.patches.centre(p), n_f);
+        let d = m.patches.centre(p);
+        let l = sky_luminance(m, t, p) * m.patches.solid_angle(p);
+        e_sky += l * d[2].max(0.0);
+        let c = dot(d, n_f);
         if c > 0.0 {
-            e_f += sky_luminance(m, t, p) * m.patches.solid_angle(p) * c;
+            e_f += l * c;
         }
     }
+    let mut ground = sky_luminance(m, t, 0);
     if sk.sun_altitude_deg > 0.0 {
-        let white: f64 = LUX_RGB.iter().sum();
-        e_f += sk.sun_radiance * white * sun_omega * dot(sk.sun_dir, n_f).max(0.0);
+        let toward = dot(sk.sun_dir, n_f);
+        e_f += sk.sun_radiance * white * sun_omega * toward.max(0.0);
+        // A facade turned away from the sun stands in front of its own shadow: the ground
+        // it sees is lit by the sky alone (the sky's ground luminance is its reflectance
+        // times the whole horizontal illuminance over pi, gendaymtx).
+        if toward <= 0.0 {
+            let e_sun = sk.sun_radiance * white * sun_omega * sk.sun_dir[2].max(0.0);
+            if e_sky + e_sun > 0.0 {
+                ground *= e_sky / (e_sky + e_sun);
+            }
+        }
     }
+    e_f += ground * PI / 2.0;
     rho * e_f / PI
 }
 

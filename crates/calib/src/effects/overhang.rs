@@ -159,6 +159,11 @@ pub fn apply(e: &Effect, m: &Model, wt: &mut Weights) {
     for p in 1..np {
         let d = m.patches.centre(p);
         wt.win_ind[p] *= 1.0 - share(d);
+        // Where a skyline weighs the ground's part on its own, the overhang keeps acting
+        // on it as on the rest (as without one): the effects commute.
+        if let Some(g) = wt.gnd.as_mut() {
+            g[p] *= 1.0 - share(d);
+        }
         for (s, sensor) in m.sensors.iter().enumerate() {
             // Over the part of the patch the sensor sees through a window (0.75-degree
             // cells), else at the patch centre.
@@ -175,6 +180,9 @@ pub fn apply(e: &Effect, m: &Model, wt: &mut Weights) {
             continue;
         }
         wt.sun_win_ind[t] *= 1.0 - share(sk.sun_dir);
+        if let Some(g) = wt.sun_gnd.as_mut() {
+            g[t] *= 1.0 - share(sk.sun_dir);
+        }
         for (s, sensor) in m.sensors.iter().enumerate() {
             sd[s * nt + t] *= direct(win, g, sensor.ray.org, sk.sun_dir);
         }
