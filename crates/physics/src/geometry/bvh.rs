@@ -2,9 +2,10 @@
 //!
 //! Structure: polygons are triangulated ([`super::triangulate`]); every triangle and every
 //! analytic shape (sphere, cone, cylinder, ring) becomes one primitive with an axis-aligned
-//! box. `obvhs` builds a compressed 8-wide BVH (CWBVH, Ylitie et al. 2017, from a PLOC BVH2,
-//! Meister & Bittner 2018; preset [`PRESET`]) over the boxes, and its
-//! traversal calls back into our own `f64` intersection routines for each candidate.
+//! box. `obvhs` builds a binary PLOC BVH (Meister & Bittner 2018; preset [`PRESET`]) over
+//! the boxes, [`super::wide`] turns it into obvhs's compressed 8-wide BVH (CWBVH, Ylitie et
+//! al. 2017) on every core, node for node what obvhs's own serial conversion makes, and
+//! obvhs's traversal calls back into our own `f64` intersection routines for each candidate.
 //!
 //! **Precision.** The BVH works in `f32`. Two measures keep that from costing accuracy:
 //! 1. *Recentring.* At build time the centre of the scene's bounding box is subtracted from
@@ -39,7 +40,9 @@ use std::time::Duration;
 use obvhs::{
     BvhBuildParams,
     aabb::Aabb,
-    cwbvh::{CwBvh, builder::build_cwbvh},
+    bvh2::reinsertion::ReinsertionOptimizer,
+    cwbvh::CwBvh,
+    ploc::PlocBuilder,
     ray::{Ray as BvhRay, RayHit},
 };
 
@@ -486,7 +489,23 @@ impl Bvh {
             srcs.push(PrimSrc::Placed(k as u32));
             boxes.push(to_aabb(a - centre, b - centre));
         }
-        let cwbvh = build_cwbvh(&boxes, params, &mut Duration::default());
+        // obvhs's `build_cwbvh` step by step: its PLOC build and reinsertion, then our
+        // conversion to the wide BVH, on every core, node for node obvhs's serial one
+        // (`wide.rs`; issue 18).
+        let mut bvh2 = PlocBuilder::with_capacity(boxes.len()).build(
+            params.ploc_search_distance,
+            &boxes,
+            (0..boxes.len() as u32).collect(),
+            params.sort_precision,
+            params.search_depth_threshold,
+        );
+        ReinsertionOptimizer::default().run(&mut bvh2, params.reinsertion_batch_ratio, None);
+        #[cfg(debug_assertions)]
+        bvh2.validate(&boxes, false, params.pre_split);
+        let cwbvh = super::wide::bvh2_to_cwbvh(&bvh2, params.max_prims_per_leaf.clamp(1, 3));
+        drop(bvh2);
+        #[cfg(debug_assertions)]
+        cwbvh.validate(&boxes, false);
         drop(boxes);
         // Pass 2: the primitives and each object's normal in input order (reading the
         // shapes sequentially), then the primitives put in leaf order in place, so that

@@ -7,6 +7,8 @@
 //!   the scene converter, and their exact intersections.
 //! - [`bvh`]: [`Bvh`], closest hit and occlusion over everything, `f32` BVH from `obvhs`
 //!   with `f64` hits and internal recentring.
+//! - [`wide`]: obvhs's binary BVH to its compressed 8-wide BVH on every core, node for node
+//!   obvhs's own serial conversion.
 //!
 //! ```
 //! use rdaylight_physics::geometry::{Bvh, Object, Ray, Shape, Vec3};
@@ -26,6 +28,7 @@ pub mod klems;
 pub mod ray;
 pub mod shapes;
 pub mod triangulate;
+pub mod wide;
 
 pub use bvh::{BuildError, Bvh, Placed, ShapeSource};
 pub use klems::{KlemsBasis, KlemsFrame, KlemsKind};
