@@ -1116,6 +1116,35 @@ mod tests {
         (sides.iter().all(|x| *x >= 0.0) || sides.iter().all(|x| *x <= 0.0)).then_some(t)
     }
 
+    /// The committed studio case (`radiance-fixtures/calib-cases/skyline-studio`: a south
+    /// window, sensors 1-6 m deep), its room, and the facets `rcalib apply` writes for the
+    /// profile.
+    fn studio_facets(
+        distance: f64,
+        start: f64,
+        step: f64,
+        alts: &[f64],
+    ) -> (crate::cases::Case, crate::room::Room, Vec<Vec<[f64; 3]>>) {
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../../radiance-fixtures/calib-cases/skyline-studio");
+        let case = crate::cases::Case::from_dir(&dir).unwrap();
+        let scene = crate::cases::scene_of(&case.model_text).unwrap();
+        let room = crate::cases::room_of(&scene, &case.sensors);
+        let e = parse(&[&[distance, start, step][..], alts].concat(), None).unwrap();
+        let text = crate::apply::apply(&scene, &room, &case.sensors, &[e], "test").unwrap();
+        let applied = crate::cases::scene_of(&text).unwrap();
+        let facets = applied
+            .objects
+            .iter()
+            .filter(|o| o.id.starts_with("rcalib_skyline_"))
+            .filter_map(|o| match &o.kind {
+                crate::scene::Primitive::Polygon { vertices } => Some(vertices.clone()),
+                _ => None,
+            })
+            .collect();
+        (case, room, facets)
+    }
+
     /// What the profile hides, as the model computes it from each sensor ([`hit`] on the
     /// cylinder, the sector's altitude seen from the windows' centre), against rays traced
     /// through the facets `rcalib apply` writes for it, on the committed studio case
@@ -1125,27 +1154,11 @@ mod tests {
     /// deep sensors see the building's end at other azimuths than the window's sensors.
     #[test]
     fn applied_facets_hide_what_the_profile_hides_from_every_sensor() {
-        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("../../radiance-fixtures/calib-cases/skyline-studio");
-        let case = crate::cases::Case::from_dir(&dir).unwrap();
-        let scene = crate::cases::scene_of(&case.model_text).unwrap();
-        let room = crate::cases::room_of(&scene, &case.sensors);
         let (distance, start, step) = (20.0, 130.0, 5.0);
         let alts = vec![
             0.0, 22.0, 30.0, 34.0, 35.0, 35.0, 34.0, 31.0, 28.0, 12.0, 0.0, 0.0,
         ];
-        let e = parse(&[&[distance, start, step][..], &alts[..]].concat(), None).unwrap();
-        let text = crate::apply::apply(&scene, &room, &case.sensors, &[e], "test").unwrap();
-        let applied = crate::cases::scene_of(&text).unwrap();
-        let facets: Vec<Vec<[f64; 3]>> = applied
-            .objects
-            .iter()
-            .filter(|o| o.id.starts_with("rcalib_skyline_"))
-            .filter_map(|o| match &o.kind {
-                crate::scene::Primitive::Polygon { vertices } => Some(vertices.clone()),
-                _ => None,
-            })
-            .collect();
+        let (case, room, facets) = studio_facets(distance, start, step, &alts);
         assert_eq!(facets.len(), alts.iter().filter(|a| **a > 0.0).count());
         let (c, _) = crate::apply::window_centre(&room, &case.sensors);
         let (mut agree, mut total) = (0usize, 0usize);
@@ -1202,27 +1215,11 @@ mod tests {
     /// see.
     #[test]
     fn the_ground_before_the_facets_sees_what_they_hide() {
-        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("../../radiance-fixtures/calib-cases/skyline-studio");
-        let case = crate::cases::Case::from_dir(&dir).unwrap();
-        let scene = crate::cases::scene_of(&case.model_text).unwrap();
-        let room = crate::cases::room_of(&scene, &case.sensors);
         let (distance, start, step) = (14.0, 130.0, 5.0);
         let alts = vec![
             0.0, 30.0, 35.0, 37.0, 38.0, 39.0, 39.0, 38.0, 37.0, 35.0, 13.0, 0.0,
         ];
-        let e = parse(&[&[distance, start, step][..], &alts[..]].concat(), None).unwrap();
-        let text = crate::apply::apply(&scene, &room, &case.sensors, &[e], "test").unwrap();
-        let applied = crate::cases::scene_of(&text).unwrap();
-        let facets: Vec<Vec<[f64; 3]>> = applied
-            .objects
-            .iter()
-            .filter(|o| o.id.starts_with("rcalib_skyline_"))
-            .filter_map(|o| match &o.kind {
-                crate::scene::Primitive::Polygon { vertices } => Some(vertices.clone()),
-                _ => None,
-            })
-            .collect();
+        let (case, room, facets) = studio_facets(distance, start, step, &alts);
         let (c, _) = crate::apply::window_centre(&room, &case.sensors);
         let (total, behind, points) = ground_points(&room, c, distance);
         assert!(total > 0.0 && !points.is_empty() && !behind.is_empty());
