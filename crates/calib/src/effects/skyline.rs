@@ -196,29 +196,22 @@ fn ground_points(room: &crate::room::Room, c: [f64; 3], dist: f64) -> GroundPoin
     let mut total = 0.0;
     let mut behind = Vec::new();
     let mut points = Vec::new();
-    let naz = (360.0 / GROUND_AZ_STEP) as usize;
+    let cells = downward_cells(&GROUND_BANDS, GROUND_AZ_STEP);
     for w in &room.windows {
-        for b in GROUND_BANDS.windows(2) {
-            let (d0, d1) = (b[0].to_radians(), b[1].to_radians());
-            let dm = 0.5 * (d0 + d1);
-            let omega = (d1.sin() - d0.sin()) * GROUND_AZ_STEP.to_radians();
-            for k in 0..naz {
-                let az = ((k as f64 + 0.5) * GROUND_AZ_STEP).to_radians();
-                let d = [dm.cos() * az.sin(), dm.cos() * az.cos(), -dm.sin()];
-                let wt = w.area * dot(d, w.outward).max(0.0) * omega;
-                if wt <= 0.0 {
-                    continue;
-                }
-                let Some(q) = room.ground_hit(w.centroid, d) else {
-                    continue;
-                };
-                total += wt;
-                let (dx, dy) = (q[0] - c[0], q[1] - c[1]);
-                if dx * dx + dy * dy >= dist * dist {
-                    behind.push((wt, dx.atan2(dy).to_degrees().rem_euclid(360.0)));
-                } else {
-                    points.push((wt, q));
-                }
+        for &(d, omega) in &cells {
+            let wt = w.area * dot(d, w.outward).max(0.0) * omega;
+            if wt <= 0.0 {
+                continue;
+            }
+            let Some(q) = room.ground_hit(w.centroid, d) else {
+                continue;
+            };
+            total += wt;
+            let (dx, dy) = (q[0] - c[0], q[1] - c[1]);
+            if dx * dx + dy * dy >= dist * dist {
+                behind.push((wt, dx.atan2(dy).to_degrees().rem_euclid(360.0)));
+            } else {
+                points.push((wt, q));
             }
         }
     }
@@ -283,6 +276,24 @@ const GLOW_BANDS: [f64; 14] = [
 ];
 const GLOW_AZ_STEP: f64 = 2.0;
 
+/// Downward directions in cells of depression `bands` (degrees) by `az_step` degrees of
+/// azimuth: (unit direction through the cell's middle, the cell's solid angle
+/// `(sin d1 - sin d0) x azimuth step`).
+fn downward_cells(bands: &[f64], az_step: f64) -> Vec<([f64; 3], f64)> {
+    let naz = (360.0 / az_step) as usize;
+    let mut out = Vec::with_capacity(naz * bands.len());
+    for b in bands.windows(2) {
+        let (d0, d1) = (b[0].to_radians(), b[1].to_radians());
+        let dm = 0.5 * (d0 + d1);
+        let omega = (d1.sin() - d0.sin()) * az_step.to_radians();
+        for k in 0..naz {
+            let az = ((k as f64 + 0.5) * az_step).to_radians();
+            out.push(([dm.cos() * az.sin(), dm.cos() * az.cos(), -dm.sin()], omega));
+        }
+    }
+    out
+}
+
 /// The ground-glow directions seen from `org` (cells of [`GLOW_BANDS`] x
 /// [`GLOW_AZ_STEP`]) that `weight` accepts and that miss the modelled ground, each with
 /// `weight x solid angle`, the azimuth (seen from `c`) and the height at which it meets
@@ -298,22 +309,13 @@ fn glow_cells(
     weight: &dyn Fn([f64; 3]) -> f64,
 ) -> Vec<(f64, f64, f64)> {
     let mut out = Vec::new();
-    let naz = (360.0 / GLOW_AZ_STEP) as usize;
-    for b in GLOW_BANDS.windows(2) {
-        let (d0, d1) = (b[0].to_radians(), b[1].to_radians());
-        let dm = 0.5 * (d0 + d1);
-        // Solid angle of the band cell: (sin d1 - sin d0) x azimuth step.
-        let omega = (d1.sin() - d0.sin()) * GLOW_AZ_STEP.to_radians();
-        for k in 0..naz {
-            let az = ((k as f64 + 0.5) * GLOW_AZ_STEP).to_radians();
-            let d = [dm.cos() * az.sin(), dm.cos() * az.cos(), -dm.sin()];
-            let w = weight(d);
-            if w <= 0.0 || m.room.meets_ground(org, d) {
-                continue;
-            }
-            if let Some((haz, el)) = hit(c, dist, org, d) {
-                out.push((w * omega, haz, c[2] + dist * el.to_radians().tan()));
-            }
+    for (d, omega) in downward_cells(&GLOW_BANDS, GLOW_AZ_STEP) {
+        let w = weight(d);
+        if w <= 0.0 || m.room.meets_ground(org, d) {
+            continue;
+        }
+        if let Some((haz, el)) = hit(c, dist, org, d) {
+            out.push((w * omega, haz, c[2] + dist * el.to_radians().tan()));
         }
     }
     out
