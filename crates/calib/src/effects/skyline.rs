@@ -1779,8 +1779,8 @@ mod tests {
         let ns = case.sensors.len();
         let flat = GroundWeights::new(&room, &case.sensors, None, &cells, ng);
         for s in 0..ns {
-            for g in 0..ng {
-                if gw[g] > 0.0 {
+            for (g, wg) in gw.iter().enumerate() {
+                if *wg > 0.0 {
                     assert!((flat.sky[s * ng + g] - 1.0).abs() < 1e-12);
                 }
             }
@@ -1791,8 +1791,8 @@ mod tests {
         let nb = GROUND_BANDS.len() - 1;
         let mean_band = |s: usize| {
             let (mut a, mut b) = (0.0, 0.0);
-            for g in 0..ng {
-                let x = w.sky[s * ng + g] * gw[g];
+            for (g, wg) in gw.iter().enumerate() {
+                let x = w.sky[s * ng + g] * wg;
                 a += x * ((g / nsec) % nb) as f64;
                 b += x;
             }
