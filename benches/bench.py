@@ -1,13 +1,14 @@
 #!/usr/bin/env python3
 """`make bench`: every pair of issue 18 in one table (ours against the Radiance program it
 stands beside), run on the same machine and inputs, the two programs alternating, medians
-of RUNS runs of whole-process CPU (user + sys), wall and peak memory (/usr/bin/time), and
-the ratio Radiance / ours (above 1: ours is faster or smaller). Not a test: the figures
-depend on the machine and its load, printed beside the table (quote ratios from an idle
-machine). docs/performance.md keeps the latest table.
+of RUNS runs (short rows more, see `pair`) of whole-process CPU (user + sys), wall and
+peak memory (/usr/bin/time), and the ratio Radiance / ours (above 1: ours is faster or
+smaller). Not a test: the figures depend on the machine and its load, printed beside the
+table (quote ratios from an idle machine). docs/performance.md keeps the latest table.
 
 Rows (each needs pyradiance's Radiance 6 binaries, `make radiance`):
-  sky MF 1 / MF 4      rspecsky -m N -of          vs gendaymtx -m N -of (London IWEC year)
+  sky MF 1 / MF 4      rspecsky -m N -of site.wea vs gendaymtx -m N -of site.wea (London IWEC year
+                       through epw2wea: the same input for both)
   glare 1000 x 1000    rglare PIC                 vs evalglare PIC (an rpict fisheye of the
                        furnished office, sun in view; rendered once into the work folder)
   scene 1M triangles   rdc -ab 0 scene.rad (parse + BVH, one sensor)
@@ -70,9 +71,13 @@ def timed(cmd, work):
 
 def pair(name, ours, theirs, runs, work):
     a, b = [], []
-    for _ in range(runs):
+    i = 0
+    # Short rows get more runs (up to 7x RUNS, while the pair has taken under 3 s): a
+    # median of 3 runs of a 0.1 s process moves by tens of percent with the machine.
+    while i < runs or (i < 7 * runs and sum(x[1] + y[1] for x, y in zip(a, b)) < 3.0):
         a.append(timed(ours, work))
         b.append(timed(theirs, work))
+        i += 1
     med = lambda v, k: statistics.median(x[k] for x in v)
     return [name] + [med(a, k) for k in range(3)] + [med(b, k) for k in range(3)]
 
@@ -134,9 +139,10 @@ def main():
     wea, pic, tri = inputs(work, wanted)
     one = os.path.join(work, "one.pts")
     todo = [
-        ("sky", "sky matrix MF 1", f"{REL}/rspecsky -m 1 -of {EPW} > /dev/null",
+        # The same input for both: gendaymtx reads only .wea (rspecsky reads the EPW too).
+        ("sky", "sky matrix MF 1", f"{REL}/rspecsky -m 1 -of {wea} > /dev/null",
          f"gendaymtx -m 1 -of {wea} > /dev/null"),
-        ("sky", "sky matrix MF 4", f"{REL}/rspecsky -m 4 -of {EPW} > /dev/null",
+        ("sky", "sky matrix MF 4", f"{REL}/rspecsky -m 4 -of {wea} > /dev/null",
          f"gendaymtx -m 4 -of {wea} > /dev/null"),
         ("glare", "fisheye glare 1000 x 1000", f"{REL}/rglare {pic} > /dev/null 2>&1",
          f"evalglare {pic} > /dev/null 2>&1"),

@@ -94,9 +94,12 @@ pub struct Fill {
     pub dir: Vec<f64>,
     /// `[t][p]`
     pub ratio: Vec<f64>,
-    /// Per patch: the hidden share of the light that reached the windows from the
-    /// exterior ground (set with [`Weights::gnd`]; `None`: as `ind`).
+    /// `[s][p]`: the hidden share of the light that reached sensor `s` by way of the
+    /// exterior ground (set with [`Weights::gnd_seen`]; `None`: as `ind`).
     pub gnd: Option<Vec<f64>>,
+    /// `[s]`: the hidden share of the sky's ground glow (patch 0) entering the windows,
+    /// per sensor (set with [`Weights::glow_ind`]; `None`: as `ind`).
+    pub glow: Option<Vec<f64>>,
 }
 
 /// Multipliers the effects set (see [`super::effects`]); all 1 for the model as given.
@@ -120,6 +123,16 @@ pub struct Weights {
     pub gnd: Option<Vec<f64>>,
     /// Per step: the same for the sun; `None`: as `sun_win_ind`.
     pub sun_gnd: Option<Vec<f64>>,
+    /// `[s][p]`: share of that ground light still reaching sensor `s` past what a skyline
+    /// hides from the ground (different sensors are lit by different parts of the ground:
+    /// [`super::effects::skyline`]); `None`: 1.
+    pub gnd_seen: Option<Vec<f64>>,
+    /// `[s][t]`: the same for the sun; `None`: 1.
+    pub sun_gnd_seen: Option<Vec<f64>>,
+    /// `[s]`: share of the sky's ground glow (patch 0) entering the windows still
+    /// reaching sensor `s` (a skyline hides the glow from other directions for different
+    /// sensors); `None`: as `win_ind`.
+    pub glow_ind: Option<Vec<f64>>,
     /// Per sensor: direct light left by a local obstruction.
     pub local: Vec<f64>,
     /// Per sensor: inter-reflected light left by a local obstruction (the part of the
@@ -220,6 +233,51 @@ impl Model {
             .as_deref()
     }
 
+    /// Per sensor, how the light that met the exterior ground reached it, as shares of
+    /// that light (sky coefficients, inter-reflected sun): `[seen directly through a
+    /// window, after one bounce in the room, after more]`, from the re-weighting records
+    /// evaluated with the room's classes scaled by `t` (the ground part is a polynomial
+    /// `g(t) = g0 + g1 t + ...` in it: `g0` and the slope `g1` at 0 are the first two
+    /// shares). `None` without records or a ground class.
+    pub fn ground_bounces(&self) -> Option<[Vec<[f64; 3]>; 2]> {
+        let r = self.refl.as_ref()?;
+        r.index(SurfaceClass::Ground)?;
+        let ns = self.nsens();
+        let shares = |rec: &ReflRecords| -> Option<Vec<[f64; 3]>> {
+            let eval = |g: f64, t: f64| {
+                let f: Vec<f64> = rec
+                    .materials
+                    .iter()
+                    .map(|(c, _)| if *c == SurfaceClass::Ground { g } else { t })
+                    .collect();
+                rec.rw.apply(&f).ok()
+            };
+            // A small step: g(t) is a polynomial of low degree, its next term t g2.
+            const EPS: f64 = 1e-4;
+            let part = |t: f64| -> Option<Vec<f64>> {
+                let (a, b) = (eval(1.0, t)?, eval(0.0, t)?);
+                Some(a.iter().zip(&b).map(|(x, y)| x - y).collect())
+            };
+            let (g0, ge, gall) = (part(0.0)?, part(EPS)?, part(1.0)?);
+            let per = g0.len() / ns.max(1);
+            Some(
+                (0..ns)
+                    .map(|s| {
+                        let sum = |v: &[f64]| v[s * per..(s + 1) * per].iter().sum::<f64>();
+                        let (a, e, all) = (sum(&g0), sum(&ge), sum(&gall));
+                        if all <= 0.0 {
+                            return [0.0, 0.0, 1.0];
+                        }
+                        let d = (a / all).clamp(0.0, 1.0);
+                        let one = ((e - a) / EPS / all).clamp(0.0, 1.0 - d);
+                        [d, one, 1.0 - d - one]
+                    })
+                    .collect(),
+            )
+        };
+        Some([shares(&r.sky)?, shares(&r.sun)?])
+    }
+
     pub fn nsens(&self) -> usize {
         self.comps.nsens
     }
@@ -239,6 +297,9 @@ impl Model {
             sun_win_dir: None,
             gnd: None,
             sun_gnd: None,
+            gnd_seen: None,
+            sun_gnd_seen: None,
+            glow_ind: None,
             local: vec![1.0; ns],
             local_ind: vec![1.0; ns],
             fill: None,
@@ -313,20 +374,30 @@ impl Model {
                     let tot = c.sky[base + p] + delta.as_ref().map_or(0.0, |d| d.sky[base + p]);
                     let d = c.sky_direct[base + p];
                     let g = ground.map_or(0.0, |g| (kg * g.sky[base + p]).min(tot - d).max(0.0));
-                    let wg = w.gnd.as_ref().map_or(w.win_ind[p], |v| v[p]);
+                    let wg = w.gnd.as_ref().map_or(w.win_ind[p], |v| v[p])
+                        * w.gnd_seen.as_ref().map_or(1.0, |v| v[s * np + p]);
                     let wd = w.win_dir.as_ref().map_or(1.0, |v| v[s * np + p]);
-                    ind += w.patch[p] * (w.win_ind[p] * (tot - d - g) + wg * g);
+                    let wi = match (&w.glow_ind, p) {
+                        (Some(v), 0) => v[s],
+                        _ => w.win_ind[p],
+                    };
+                    ind += w.patch[p] * (wi * (tot - d - g) + wg * g);
                     dir += w.patch[p] * wd * d;
                     if let Some(f) = &w.fill {
                         let r = f.ratio[t * np + p];
-                        let fg = f.gnd.as_ref().map_or(f.ind[p], |v| v[p]);
-                        ind += w.patch[p] * r * (f.ind[p] * (tot - d - g) + fg * g);
+                        let fg = f.gnd.as_ref().map_or(f.ind[p], |v| v[s * np + p]);
+                        let fi = match (&f.glow, p) {
+                            (Some(v), 0) => v[s],
+                            _ => f.ind[p],
+                        };
+                        ind += w.patch[p] * r * (fi * (tot - d - g) + fg * g);
                         dir += w.patch[p] * f.dir[s * np + p] * r * d;
                     }
                 }
                 let si = c.sun_indirect[st] + delta.as_ref().map_or(0.0, |d| d.sun[st]);
                 let gs = ground.map_or(0.0, |g| (kg * g.sun[st]).min(si).max(0.0));
-                let wgs = w.sun_gnd.as_ref().map_or(w.sun_win_ind[t], |v| v[t]);
+                let wgs = w.sun_gnd.as_ref().map_or(w.sun_win_ind[t], |v| v[t])
+                    * w.sun_gnd_seen.as_ref().map_or(1.0, |v| v[st]);
                 let swd = w.sun_win_dir.as_ref().map_or(1.0, |v| v[st]);
                 ind += w.sun[t] * (w.sun_win_ind[t] * (si - gs) + wgs * gs);
                 dir += w.sun[t] * swd * c.sun_direct[st];
@@ -336,7 +407,7 @@ impl Model {
     }
 
     /// The ground class's scale in `refl` (1 when it is not scaled).
-    fn ground_scale(&self, refl: &[(usize, f64)]) -> f64 {
+    pub fn ground_scale(&self, refl: &[(usize, f64)]) -> f64 {
         let gi = self
             .refl
             .as_ref()

@@ -139,6 +139,9 @@ pub struct Room {
     /// window downwards meets the modelled ground rather than the sky's ground glow beyond
     /// it, which a near exterior obstruction hides.
     pub ground_polygons: Vec<Vec<[f64; 3]>>,
+    /// Every other polygon that is not glass (the room's walls, ceiling, floor and
+    /// furniture): where light entering a window first lands ([`Room::landing`]).
+    pub opaque_polygons: Vec<Vec<[f64; 3]>>,
 }
 
 impl Room {
@@ -165,14 +168,9 @@ impl Room {
                 glass_tn = transmissivity.iter().sum::<f64>() / transmissivity.len().max(1) as f64;
                 glass_index = index.unwrap_or(1.52);
             }
-            // Newell normal and area.
-            let mut n = [0.0; 3];
+            let n = newell(vertices);
             let mut c = [0.0; 3];
-            for (k, a) in vertices.iter().enumerate() {
-                let b = vertices[(k + 1) % vertices.len()];
-                n[0] += (a[1] - b[1]) * (a[2] + b[2]);
-                n[1] += (a[2] - b[2]) * (a[0] + b[0]);
-                n[2] += (a[0] - b[0]) * (a[1] + b[1]);
+            for a in vertices {
                 for j in 0..3 {
                     c[j] += a[j] / vertices.len() as f64;
                 }
@@ -271,6 +269,22 @@ impl Room {
                 _ => None,
             })
             .collect();
+        let opaque_polygons = scene
+            .surfaces()
+            .filter(|(i, _)| {
+                scene.material_of(*i).is_some_and(|m| {
+                    let o = &scene.objects[m];
+                    !matches!(o.kind, Primitive::Glass { .. })
+                        && !materials
+                            .iter()
+                            .any(|(id, c)| *c == SurfaceClass::Ground && *id == o.id)
+                })
+            })
+            .filter_map(|(_, o)| match &o.kind {
+                Primitive::Polygon { vertices } if vertices.len() >= 3 => Some(vertices.clone()),
+                _ => None,
+            })
+            .collect();
         Room {
             windows,
             outline,
@@ -280,6 +294,7 @@ impl Room {
             floor,
             ground_reflectance,
             ground_polygons,
+            opaque_polygons,
         }
     }
 
@@ -299,6 +314,25 @@ impl Room {
             .fold(f64::INFINITY, f64::min);
         t.is_finite()
             .then(|| [org[0] + t * d[0], org[1] + t * d[1], org[2] + t * d[2]])
+    }
+
+    /// Where the ray from `org` along `d` first meets one of the
+    /// [`Room::opaque_polygons`]: the point and the polygon's unit normal turned towards
+    /// `org`.
+    pub fn landing(&self, org: [f64; 3], d: [f64; 3]) -> Option<([f64; 3], [f64; 3])> {
+        let (t, v) = self
+            .opaque_polygons
+            .iter()
+            .filter_map(|v| polygon_hit(v, org, d).map(|t| (t, v)))
+            .min_by(|a, b| a.0.total_cmp(&b.0))?;
+        let mut n = newell(v);
+        let len = dot(n, n).sqrt();
+        if len < 1e-12 {
+            return None;
+        }
+        let s = if dot(n, d) > 0.0 { -1.0 } else { 1.0 } / len;
+        n = [n[0] * s, n[1] * s, n[2] * s];
+        Some(([org[0] + t * d[0], org[1] + t * d[1], org[2] + t * d[2]], n))
     }
 
     /// Classes that have at least one material.
@@ -445,10 +479,8 @@ pub fn scaled_scene(
     s
 }
 
-/// Distance along `d` at which the ray from `org` crosses the planar polygon `v`, if it
-/// does (Newell normal, then the crossing tested in the plane's dominant projection by the
-/// even-odd rule).
-fn polygon_hit(v: &[[f64; 3]], org: [f64; 3], d: [f64; 3]) -> Option<f64> {
+/// Newell's normal of polygon `v` (twice its area long).
+fn newell(v: &[[f64; 3]]) -> [f64; 3] {
     let mut n = [0.0; 3];
     for (k, a) in v.iter().enumerate() {
         let b = v[(k + 1) % v.len()];
@@ -456,6 +488,14 @@ fn polygon_hit(v: &[[f64; 3]], org: [f64; 3], d: [f64; 3]) -> Option<f64> {
         n[1] += (a[2] - b[2]) * (a[0] + b[0]);
         n[2] += (a[0] - b[0]) * (a[1] + b[1]);
     }
+    n
+}
+
+/// Distance along `d` at which the ray from `org` crosses the planar polygon `v`, if it
+/// does (Newell normal, then the crossing tested in the plane's dominant projection by the
+/// even-odd rule).
+fn polygon_hit(v: &[[f64; 3]], org: [f64; 3], d: [f64; 3]) -> Option<f64> {
+    let n = newell(v);
     let dn = dot(d, n);
     if dn.abs() < 1e-12 {
         return None;

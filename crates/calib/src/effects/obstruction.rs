@@ -259,6 +259,7 @@ pub fn apply(e: &Effect, m: &Model, w: &mut Weights) {
         dir: vec![0.0; ns * np],
         ratio: vec![0.0; nt * np],
         gnd: None,
+        glow: None,
     };
     for i in 1..np.min(hz.cells.len()) {
         let Some((fa, fz)) = hz.overlaps(i, azimuth, half_width, altitude) else {
@@ -318,39 +319,58 @@ pub fn sky_luminance(m: &Model, t: usize, p: usize) -> f64 {
 /// vertical plane from the sky patches, the sky's ground patch (the lower quarter sphere,
 /// pi/2 of cosine-weighted solid angle) and the sun.
 pub fn facade_luminance(m: &Model, t: usize, n_f: [f64; 3]) -> f64 {
+    let f = facade_light(m, t, n_f);
+    let mut ground = sky_luminance(m, t, 0);
+    // A facade turned away from the sun stands in front of its own shadow: the ground it
+    // sees is lit by the sky alone (the sky's ground luminance is its reflectance times
+    // the whole horizontal illuminance over pi, gendaymtx).
+    if f.toward <= 0.0 && f.e_sky + f.e_sun > 0.0 {
+        ground *= f.e_sky / (f.e_sky + f.e_sun);
+    }
+    f.rho * (f.e_direct + ground * PI / 2.0) / PI
+}
+
+/// The light on a facade of outward normal `n_f` at step `t` (see [`facade_luminance`]).
+pub struct FacadeLight {
+    /// Reflectance the luminances are for (`apply::OBSTRUCTION_REFLECTANCE`).
+    pub rho: f64,
+    /// Illuminance on the facade from the sky patches and the sun.
+    pub e_direct: f64,
+    /// Horizontal illuminance from the sky patches, and from the sun.
+    pub e_sky: f64,
+    pub e_sun: f64,
+    /// Cosine between the sun's direction and the facade's normal (0 without a sun).
+    pub toward: f64,
+}
+
+pub fn facade_light(m: &Model, t: usize, n_f: [f64; 3]) -> FacadeLight {
     let np = m.comps.npatch;
     let sk = &m.skies[t];
-    let rho = crate::apply::OBSTRUCTION_REFLECTANCE;
     let sun_omega = 2.0 * PI * (1.0 - (0.533f64.to_radians() / 2.0).cos());
     let white: f64 = LUX_RGB.iter().sum();
-    let mut e_f = 0.0;
-    // Horizontal illuminance from the sky patches, and from the sun.
-    let mut e_sky = 0.0;
+    let (mut e_direct, mut e_sky, mut e_sun, mut toward) = (0.0, 0.0, 0.0, 0.0);
     for p in 1..np {
         let d = m.patches.centre(p);
         let l = sky_luminance(m, t, p) * m.patches.solid_angle(p);
         e_sky += l * d[2].max(0.0);
         let c = dot(d, n_f);
         if c > 0.0 {
-            e_f += l * c;
+            e_direct += l * c;
         }
     }
-    let mut ground = sky_luminance(m, t, 0);
     if sk.sun_altitude_deg > 0.0 {
-        let toward = dot(sk.sun_dir, n_f);
-        e_f += sk.sun_radiance * white * sun_omega * toward.max(0.0);
-        // A facade turned away from the sun stands in front of its own shadow: the ground
-        // it sees is lit by the sky alone (the sky's ground luminance is its reflectance
-        // times the whole horizontal illuminance over pi, gendaymtx).
-        if toward <= 0.0 {
-            let e_sun = sk.sun_radiance * white * sun_omega * sk.sun_dir[2].max(0.0);
-            if e_sky + e_sun > 0.0 {
-                ground *= e_sky / (e_sky + e_sun);
-            }
-        }
+        toward = dot(sk.sun_dir, n_f);
+        let e = sk.sun_radiance * white * sun_omega;
+        e_direct += e * toward.max(0.0);
+        e_sun = e * sk.sun_dir[2].max(0.0);
     }
-    e_f += ground * PI / 2.0;
-    rho * e_f / PI
+    FacadeLight {
+        rho: crate::apply::OBSTRUCTION_REFLECTANCE,
+        e_direct,
+        e_sky,
+        e_sun,
+        toward,
+    }
 }
 
 /// Outward azimuths (degrees east of north) of the room's windows.

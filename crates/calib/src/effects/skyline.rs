@@ -25,7 +25,9 @@
 //!   coefficient, from the re-weighting records: [`Model::ground_part`]): hidden by the
 //!   share of the ground points the windows see that no longer see the patch or the sun
 //!   (a building stands higher seen from the ground before it, and shades it), or that
-//!   lie behind the facets ([`GroundView`]).
+//!   lie behind the facets ([`GroundView`]); each sensor weighs those points by how its
+//!   ground light reaches it ([`GroundWeights`]: the back of a side-lit room is lit by
+//!   light entering at shallow angles, from the far ground a building shades first).
 //!
 //! In place of the hidden sky the facade sends back its own light as in
 //! [`super::obstruction`] ([`facade_luminance`]), facing the room from the patch's azimuth.
@@ -50,7 +52,7 @@
 //! where the fit put it, as the correction is made for the facets there.
 
 use super::obstruction::{
-    CELLS, Horizon, facade_luminance, sky_luminance, window_azimuths, wrap_deg,
+    CELLS, Horizon, facade_light, facade_luminance, sky_luminance, window_azimuths, wrap_deg,
 };
 use super::{Effect, golden, smooth_step};
 use crate::fit::{Fitter, without};
@@ -147,9 +149,9 @@ pub struct Geometry {
     sun_win: Vec<Vec<(f64, f64, f64)>>,
     /// The sky's ground glow as the windows see it (the downward directions that miss the
     /// modelled ground): (area x cosine x solid angle, hit azimuth, hit height).
-    glow_win: Vec<(f64, f64, f64)>,
+    glow_win: Vec<GlowCell>,
     /// `[s]`: the same for each sensor's direct view through the windows.
-    glow_dir: Vec<Vec<(f64, f64, f64)>>,
+    glow_dir: Vec<Vec<GlowCell>>,
     /// The exterior ground in front of the room and what the profile hides from it.
     ground: GroundView,
 }
@@ -160,6 +162,193 @@ const GROUND_BANDS: [f64; 11] = [
     0.0, 4.0, 8.0, 13.0, 19.0, 26.0, 34.0, 43.0, 53.0, 65.0, 90.0,
 ];
 const GROUND_AZ_STEP: f64 = 6.0;
+/// Azimuth width (degrees) of the groups of ground cells a sensor's weights are kept
+/// for ([`GroundWeights`]): with the depression bands, fine enough that a group's cells
+/// land in the same part of the room.
+const GROUND_GROUP_AZ: f64 = 30.0;
+/// The nearest a landing point counts as being to a sensor (m^2): a ceiling point right
+/// above a sensor lights it as a patch, not a point.
+const LANDING_R2_MIN: f64 = 0.25;
+
+/// One direction in which a window sees the modelled ground.
+#[derive(Debug, Clone, Copy)]
+struct GroundCell {
+    /// Window area x cosine x the cell's solid angle.
+    wt: f64,
+    /// Where the ray from the window's centroid meets the ground.
+    q: [f64; 3],
+    /// The cell's group: (window, depression band, [`GROUND_GROUP_AZ`] sector).
+    group: usize,
+    /// The window's index and the cell's direction (downwards, out of the window).
+    window: usize,
+    d: [f64; 3],
+}
+
+/// The windows' view of the modelled ground (cells of [`GROUND_BANDS`] x
+/// [`GROUND_AZ_STEP`] from each window's centroid that meet it) and the number of groups.
+fn ground_cells(room: &crate::room::Room) -> (Vec<GroundCell>, usize) {
+    let cells = downward_cells(&GROUND_BANDS, GROUND_AZ_STEP);
+    let naz = (360.0 / GROUND_AZ_STEP) as usize;
+    let nsec = (360.0 / GROUND_GROUP_AZ) as usize;
+    let nb = GROUND_BANDS.len() - 1;
+    let mut out = Vec::new();
+    for (wi, w) in room.windows.iter().enumerate() {
+        for (i, &(d, omega)) in cells.iter().enumerate() {
+            let wt = w.area * dot(d, w.outward).max(0.0) * omega;
+            if wt <= 0.0 {
+                continue;
+            }
+            let Some(q) = room.ground_hit(w.centroid, d) else {
+                continue;
+            };
+            let group = (wi * nb + i / naz) * nsec + (i % naz) * nsec / naz;
+            out.push(GroundCell {
+                wt,
+                q,
+                group,
+                window: wi,
+                d,
+            });
+        }
+    }
+    (out, room.windows.len() * nb * nsec)
+}
+
+/// How much each sensor depends on each group of ground cells, relative to the windows
+/// (1 for every group: as the windows see the ground). The light that met the ground
+/// reaches a sensor in three ways ([`Model::ground_bounces`] gives each sensor's shares):
+/// seen directly through a window (the sensor's own cosine-weighted view of the cell's
+/// direction), after one bounce in the room (light entering upwards at the cell's
+/// depression lands on the ceiling or a wall, nearer the window the steeper it comes, and
+/// lights the sensor by the point-to-point form factor `cos cos / r^2` from where it
+/// lands: a side-lit room's back is lit by the far, shallow ground a building shades first),
+/// or after more bounces (spread through the room: as the windows see it). Without
+/// re-weighting records every sensor weighs the ground as the windows do.
+#[derive(Debug, Clone, Default)]
+struct GroundWeights {
+    ngroups: usize,
+    /// `[s][g]` for the sky's ground light and for the sun's.
+    sky: Vec<f64>,
+    sun: Vec<f64>,
+}
+
+impl GroundWeights {
+    /// From the windows' `cells` in `ngroups` groups, the `sensors` and their shares
+    /// `bounces` (sky, sun; `None`: all after many bounces).
+    fn new(
+        room: &crate::room::Room,
+        sensors: &[crate::formats::sensors::Sensor],
+        bounces: Option<[Vec<[f64; 3]>; 2]>,
+        cells: &[GroundCell],
+        ngroups: usize,
+    ) -> GroundWeights {
+        let ns = sensors.len();
+        let nc = cells.len();
+        // Per cell and sensor: the direct and first-bounce kernels.
+        let mut k0 = vec![0.0; nc * ns];
+        let mut k1 = vec![0.0; nc * ns];
+        // Entry points over each window's face, just inside it.
+        let third = [1.0 / 6.0, 0.5, 5.0 / 6.0];
+        let entries: Vec<Vec<[f64; 3]>> = room
+            .windows
+            .iter()
+            .map(|w| {
+                let u0 = dot(w.centroid, w.tangent);
+                third
+                    .iter()
+                    .flat_map(|&fu| {
+                        third.map(|fz| {
+                            let u = w.span.0 + fu * (w.span.1 - w.span.0) - u0;
+                            [
+                                w.centroid[0] + u * w.tangent[0] - 1e-3 * w.outward[0],
+                                w.centroid[1] + u * w.tangent[1] - 1e-3 * w.outward[1],
+                                w.sill + fz * (w.head - w.sill),
+                            ]
+                        })
+                    })
+                    .collect()
+            })
+            .collect();
+        for (k, c) in cells.iter().enumerate() {
+            let (w, d) = (&room.windows[c.window], c.d);
+            let cw = dot(d, w.outward);
+            let up = [-d[0], -d[1], -d[2]];
+            let ents = &entries[c.window];
+            let lands: Vec<([f64; 3], [f64; 3])> =
+                ents.iter().filter_map(|e| room.landing(*e, up)).collect();
+            for (s, sensor) in sensors.iter().enumerate() {
+                let (org, n) = (sensor.ray.org, sensor.ray.dir);
+                if super::obstruction::window_hit(w, org, d) {
+                    k0[k * ns + s] = dot(d, n).max(0.0) / (w.area * cw);
+                }
+                let mut sum = 0.0;
+                for (l, nl) in &lands {
+                    let v = [org[0] - l[0], org[1] - l[1], org[2] - l[2]];
+                    let r2 = dot(v, v);
+                    let r = r2.sqrt();
+                    if r < 1e-9 {
+                        continue;
+                    }
+                    let (cl, cs) = (dot(*nl, v) / r, -dot(n, v) / r);
+                    if cl > 0.0 && cs > 0.0 {
+                        sum += cl * cs / r2.max(LANDING_R2_MIN);
+                    }
+                }
+                k1[k * ns + s] = sum / ents.len() as f64;
+            }
+        }
+        let total: f64 = cells.iter().map(|c| c.wt).sum();
+        let mut gw = vec![0.0; ngroups];
+        for c in cells {
+            gw[c.group] += c.wt;
+        }
+        let weights = |which: usize| -> Vec<f64> {
+            let mut out = vec![0.0; ns * ngroups];
+            for s in 0..ns {
+                let [mut b0, mut b1, mut br] =
+                    bounces.as_ref().map_or([0.0, 0.0, 1.0], |b| b[which][s]);
+                // Each kernel's mean over the windows' view, to make it relative.
+                let mean = |kk: &[f64]| {
+                    cells
+                        .iter()
+                        .enumerate()
+                        .map(|(i, c)| c.wt * kk[i * ns + s])
+                        .sum::<f64>()
+                        / total
+                };
+                let (m0, m1) = (mean(&k0), mean(&k1));
+                if m0 <= 0.0 {
+                    (br, b0) = (br + b0, 0.0);
+                }
+                if m1 <= 0.0 {
+                    (br, b1) = (br + b1, 0.0);
+                }
+                let row = &mut out[s * ngroups..(s + 1) * ngroups];
+                for (i, c) in cells.iter().enumerate() {
+                    let mut kappa = br;
+                    if b0 > 0.0 {
+                        kappa += b0 * k0[i * ns + s] / m0;
+                    }
+                    if b1 > 0.0 {
+                        kappa += b1 * k1[i * ns + s] / m1;
+                    }
+                    row[c.group] += c.wt * kappa;
+                }
+                for (r, g) in row.iter_mut().zip(&gw) {
+                    if *g > 0.0 {
+                        *r /= g;
+                    }
+                }
+            }
+            out
+        };
+        GroundWeights {
+            ngroups,
+            sky: weights(0),
+            sun: weights(1),
+        }
+    }
+}
 
 /// The modelled exterior ground as the windows see it, and the sky and sun the profile
 /// hides from it. A near building shades the ground in front of the room: seen from a
@@ -168,63 +357,53 @@ const GROUND_AZ_STEP: f64 = 6.0;
 /// ground light entering a vertical window comes from its first few metres (half of the
 /// window's downward view lies within one sill-height-and-a-half of the wall). Light that
 /// met the ground on its way in ([`Model::ground_part`]) is hidden by the share of these
-/// points that no longer see the patch (or the sun), weighted as the windows see them
-/// (area x cosine x solid angle), and by the share of the ground behind the facets, which
-/// the windows no longer see at all.
+/// points that no longer see the patch (or the sun), and by the share of the ground
+/// behind the facets, which the windows no longer see at all; each sensor weighs the
+/// points by [`GroundWeights`].
 #[derive(Debug, Clone, Default)]
 struct GroundView {
     /// Sum of the points' weights.
     total: f64,
-    /// Points beyond the cylinder: (weight, azimuth seen from the windows' centre).
-    behind: Vec<(f64, f64)>,
-    /// `[p]`: (weight, hit azimuth, hit elevation) of the ray from each point inside the
-    /// cylinder towards the patch's centre.
-    sky: Vec<Vec<(f64, f64, f64)>>,
+    /// Points beyond the cylinder: (group, weight, azimuth seen from the windows' centre).
+    behind: Vec<(usize, f64, f64)>,
+    /// `[p]`: (group, weight, hit azimuth, hit elevation) of the ray from each point inside
+    /// the cylinder towards the patch's centre.
+    sky: Vec<Vec<(usize, f64, f64, f64)>>,
     /// `[p]`: the patch's altitude range (degrees; 0 where the profile cannot reach it).
     span: Vec<f64>,
     /// `[t]`: the same rays towards the sun.
-    sun: Vec<Vec<(f64, f64, f64)>>,
+    sun: Vec<Vec<(usize, f64, f64, f64)>>,
 }
 
-/// The windows' view of the modelled ground: the sum of the weights (area x cosine x
-/// solid angle, from each window's centroid over [`GROUND_BANDS`] x [`GROUND_AZ_STEP`]),
-/// the points beyond the cylinder of radius `dist` around `c` as (weight, azimuth seen
-/// from `c`), and the points inside it as (weight, point).
-type GroundPoints = (f64, Vec<(f64, f64)>, Vec<(f64, [f64; 3])>);
+/// The ground cells split by the cylinder of radius `dist` around `c`: the sum of the
+/// weights, the cells beyond it as (group, weight, azimuth seen from `c`), and those
+/// inside it as (group, weight, point).
+type GroundPoints = (f64, Vec<(usize, f64, f64)>, Vec<(usize, f64, [f64; 3])>);
 
-fn ground_points(room: &crate::room::Room, c: [f64; 3], dist: f64) -> GroundPoints {
+fn ground_points(cells: &[GroundCell], c: [f64; 3], dist: f64) -> GroundPoints {
     let mut total = 0.0;
     let mut behind = Vec::new();
     let mut points = Vec::new();
-    let cells = downward_cells(&GROUND_BANDS, GROUND_AZ_STEP);
-    for w in &room.windows {
-        for &(d, omega) in &cells {
-            let wt = w.area * dot(d, w.outward).max(0.0) * omega;
-            if wt <= 0.0 {
-                continue;
-            }
-            let Some(q) = room.ground_hit(w.centroid, d) else {
-                continue;
-            };
-            total += wt;
-            let (dx, dy) = (q[0] - c[0], q[1] - c[1]);
-            if dx * dx + dy * dy >= dist * dist {
-                behind.push((wt, dx.atan2(dy).to_degrees().rem_euclid(360.0)));
-            } else {
-                points.push((wt, q));
-            }
+    for gc in cells {
+        total += gc.wt;
+        let (dx, dy) = (gc.q[0] - c[0], gc.q[1] - c[1]);
+        if dx * dx + dy * dy >= dist * dist {
+            let az = dx.atan2(dy).to_degrees().rem_euclid(360.0);
+            behind.push((gc.group, gc.wt, az));
+        } else {
+            points.push((gc.group, gc.wt, gc.q));
         }
     }
     (total, behind, points)
 }
 
 impl GroundView {
-    fn new(m: &Model, hz: &Horizon, c: [f64; 3], dist: f64) -> GroundView {
-        let (total, behind, points) = ground_points(&m.room, c, dist);
-        let rays = |d: [f64; 3]| -> Vec<(f64, f64, f64)> {
+    fn new(m: &Model, hz: &Horizon, c: [f64; 3], dist: f64, cells: &[GroundCell]) -> GroundView {
+        let (total, behind, points) = ground_points(cells, c, dist);
+        let rays = |d: [f64; 3]| -> Vec<(usize, f64, f64, f64)> {
             points
                 .iter()
-                .filter_map(|&(wt, q)| hit(c, dist, q, d).map(|(az, el)| (wt, az, el)))
+                .filter_map(|&(g, wt, q)| hit(c, dist, q, d).map(|(az, el)| (g, wt, az, el)))
                 .collect()
         };
         let np = m.comps.npatch;
@@ -258,15 +437,32 @@ impl GroundView {
         }
     }
 
-    /// Share of the ground behind the facets of profile `tp`.
-    fn behind(&self, tp: &dyn Fn(f64) -> f64) -> f64 {
-        self.behind
-            .iter()
-            .filter(|x| tp(x.1) > 0.0)
-            .map(|x| x.0)
-            .sum::<f64>()
-            / self.total
+    /// Per group, the weight of the ground behind the facets of profile `tp`.
+    fn behind(&self, tp: &dyn Fn(f64) -> f64, ngroups: usize) -> Vec<f64> {
+        let mut out = vec![0.0; ngroups];
+        for &(g, wt, az) in &self.behind {
+            if tp(az) > 0.0 {
+                out[g] += wt;
+            }
+        }
+        out
     }
+}
+
+/// Per sensor, the share of the ground light hidden: `(behind[s] + sum over groups of
+/// weights[s][g] hidden[g]) / total`, capped at 1; `hidden` lists the groups with some
+/// weight hidden.
+fn hidden_share(
+    weights: &[f64],
+    ngroups: usize,
+    behind: &[f64],
+    hidden: &[(usize, f64)],
+    total: f64,
+    s: usize,
+) -> f64 {
+    let row = &weights[s * ngroups..(s + 1) * ngroups];
+    let hid: f64 = hidden.iter().map(|&(g, h)| row[g] * h).sum();
+    ((behind[s] + hid) / total).min(1.0)
 }
 
 /// Downward directions of [`glow_cells`]: depression bands (degrees) fine near the
@@ -307,24 +503,37 @@ fn glow_cells(
     dist: f64,
     org: [f64; 3],
     weight: &dyn Fn([f64; 3]) -> f64,
-) -> Vec<(f64, f64, f64)> {
+) -> Vec<GlowCell> {
     let mut out = Vec::new();
-    for (d, omega) in downward_cells(&GLOW_BANDS, GLOW_AZ_STEP) {
+    for (i, (d, omega)) in downward_cells(&GLOW_BANDS, GLOW_AZ_STEP)
+        .into_iter()
+        .enumerate()
+    {
         let w = weight(d);
         if w <= 0.0 || m.room.meets_ground(org, d) {
             continue;
         }
         if let Some((haz, el)) = hit(c, dist, org, d) {
-            out.push((w * omega, haz, c[2] + dist * el.to_radians().tan()));
+            out.push((w * omega, haz, c[2] + dist * el.to_radians().tan(), i));
         }
     }
     out
 }
 
-/// Share of the glow cells `cells` the profile `tp` hides.
-fn glow_hidden(cells: &[(f64, f64, f64)], tp: &dyn Fn(f64) -> f64) -> Option<f64> {
+/// A glow cell of [`glow_cells`]: (weight x solid angle, azimuth and height where it meets
+/// the cylinder, the cell's index among the downward cells).
+type GlowCell = (f64, f64, f64, usize);
+
+/// Share of the glow cells `cells` the profile `tp` hides, each weighted besides by
+/// `extra` of its index.
+fn glow_hidden(
+    cells: &[GlowCell],
+    tp: &dyn Fn(f64) -> f64,
+    extra: &dyn Fn(usize) -> f64,
+) -> Option<f64> {
     let (mut b, mut t) = (0.0, 0.0);
-    for &(w, az, z) in cells {
+    for &(w, az, z, i) in cells {
+        let w = w * extra(i);
         t += w;
         if tp(az) > 0.0 && z > crate::apply::SKYLINE_BOTTOM {
             b += w;
@@ -333,8 +542,33 @@ fn glow_hidden(cells: &[(f64, f64, f64)], tp: &dyn Fn(f64) -> f64) -> Option<f64
     (t > 0.0).then(|| b / t)
 }
 
+/// The glow's directions from each window (cells of [`GLOW_BANDS`] x [`GLOW_AZ_STEP`]
+/// that miss the modelled ground) as [`GroundCell`]s, grouped one a cell (window index x
+/// cells a window + the cell's index), and the number of groups.
+fn glow_window_cells(room: &crate::room::Room) -> (Vec<GroundCell>, usize) {
+    let cells = downward_cells(&GLOW_BANDS, GLOW_AZ_STEP);
+    let n = cells.len();
+    let mut out = Vec::new();
+    for (wi, w) in room.windows.iter().enumerate() {
+        for (i, &(d, omega)) in cells.iter().enumerate() {
+            let wt = w.area * dot(d, w.outward).max(0.0) * omega;
+            if wt <= 0.0 || room.meets_ground(w.centroid, d) {
+                continue;
+            }
+            out.push(GroundCell {
+                wt,
+                q: w.centroid,
+                group: wi * n + i,
+                window: wi,
+                d,
+            });
+        }
+    }
+    (out, room.windows.len() * n)
+}
+
 impl Geometry {
-    pub fn new(m: &Model, distance: f64) -> Geometry {
+    fn new(m: &Model, distance: f64, cells: &[GroundCell]) -> Geometry {
         let hz = m.horizon();
         let (c, _) = crate::apply::window_centre(&m.room, &m.sensors);
         let never = (0.0, 90.0);
@@ -393,10 +627,14 @@ impl Geometry {
             .room
             .windows
             .iter()
-            .flat_map(|w| {
+            .enumerate()
+            .flat_map(|(wi, w)| {
+                let n = downward_cells(&GLOW_BANDS, GLOW_AZ_STEP).len();
                 glow_cells(m, c, distance, w.centroid, &|d| {
                     w.area * dot(d, w.outward).max(0.0)
                 })
+                .into_iter()
+                .map(move |(a, b, z, i)| (a, b, z, wi * n + i))
             })
             .collect();
         let glow_dir = m
@@ -418,7 +656,7 @@ impl Geometry {
                 })
             })
             .collect();
-        let ground = GroundView::new(m, hz, c, distance);
+        let ground = GroundView::new(m, hz, c, distance, cells);
         Geometry {
             distance,
             dir,
@@ -431,47 +669,170 @@ impl Geometry {
     }
 }
 
+/// The luminance of a facade of outward normal `n_f` at step `t` (reflectance
+/// `apply::OBSTRUCTION_REFLECTANCE`, Lambertian) in three parts: lit by the sky patches and
+/// the sun; by the ground the sky lights; by the ground the sun lights. The ground fills
+/// the lower quarter sphere (pi/2 of cosine-weighted solid angle) at luminance
+/// `rho_g E / pi`, `rho_g` the modelled ground's reflectance (without one, the sky's ground
+/// patch's). [`apply`] weighs the two ground parts by how much of the sky and the sun the
+/// profile leaves the ground before the facade: a building shades the street in front of it.
+fn facade_parts(m: &Model, t: usize, n_f: [f64; 3]) -> [f64; 3] {
+    let f = facade_light(m, t, n_f);
+    let e = f.e_sky + f.e_sun;
+    let rho_g = if m.room.ground_reflectance > 0.0 {
+        m.room.ground_reflectance
+    } else if e > 0.0 {
+        sky_luminance(m, t, 0) * std::f64::consts::PI / e
+    } else {
+        0.0
+    };
+    let g = |e: f64| f.rho * rho_g * e / (2.0 * std::f64::consts::PI);
+    [
+        f.rho * f.e_direct / std::f64::consts::PI,
+        g(f.e_sky),
+        g(f.e_sun),
+    ]
+}
+
+/// Share of the sky's light (a uniform sky) that a long wall of height `h` takes from the
+/// street before it, as a point of the wall at height `z = u h` sees that street. Ground at
+/// distance `x` from the wall sees the sky only above the wall's top, at elevation
+/// `beta = atan(h / x)`: the wall takes `(1 - cos beta) / 2` of its irradiance (the view
+/// factor from a long strip to a long wall, in 2-D). The wall's point sees ground at
+/// depression `delta` (distance `x = z / tan delta`) with weight `(4 / pi) cos^2 delta`
+/// per radian (a vertical plane's cosine-weighted view of the ground, over every azimuth):
+/// the wall's foot sees the darkest street (1/2), its top a street half as dark.
+fn street_sky_shade(u: f64) -> f64 {
+    const N: usize = 64;
+    static TABLE: std::sync::OnceLock<Vec<f64>> = std::sync::OnceLock::new();
+    let table = TABLE.get_or_init(|| {
+        let cum = |d: f64| (d + d.sin() * d.cos()) * std::f64::consts::FRAC_2_PI;
+        (0..=N)
+            .map(|i| {
+                let u = (i as f64 / N as f64).max(1e-6);
+                let bands = 256;
+                (0..bands)
+                    .map(|j| {
+                        let step = std::f64::consts::FRAC_PI_2 / bands as f64;
+                        let (d0, d1) = (j as f64 * step, (j + 1) as f64 * step);
+                        let t = (0.5 * (d0 + d1)).tan();
+                        let cos_beta = u / (u * u + t * t).sqrt();
+                        (cum(d1) - cum(d0)) * 0.5 * (1.0 - cos_beta)
+                    })
+                    .sum()
+            })
+            .collect()
+    });
+    let x = u.clamp(0.0, 1.0) * N as f64;
+    let i = (x as usize).min(N - 1);
+    table[i] + (x - i as f64) * (table[i + 1] - table[i])
+}
+
+/// Share of the street before a wall of height `h` (outward normal `n_f`, horizontal) that
+/// a point of the wall at height `z` sees in the wall's own shadow, the sun along `sun`
+/// (unit, towards it): none with the sun before the wall; behind it, the shadow reaches
+/// `x_s = h cos(dazimuth) / tan(altitude)` from the wall, seen below the depression
+/// `atan(z / x_s)`, a share `1 - (2 / pi) (delta_s + sin delta_s cos delta_s)` of the wall's
+/// ground view (the weights of [`street_sky_shade`]).
+fn street_sun_shade(z: f64, h: f64, n_f: [f64; 3], sun: [f64; 3]) -> f64 {
+    let horizontal = (sun[0] * sun[0] + sun[1] * sun[1]).sqrt();
+    let behind = -(sun[0] * n_f[0] + sun[1] * n_f[1]);
+    if behind <= 0.0 || sun[2] <= 0.0 || horizontal <= 0.0 {
+        return 0.0;
+    }
+    let x_s = h * behind / sun[2];
+    let d = (z / x_s).atan();
+    1.0 - (d + d.sin() * d.cos()) * std::f64::consts::FRAC_2_PI
+}
+
 /// Per model: the geometries at [`DISTANCES`] and the facade's luminance over each sky
 /// patch's, `[t][p]` (see [`Model::skyline`]).
 #[derive(Debug, Clone)]
 pub struct Cache {
     geoms: Vec<Geometry>,
+    /// `[t][p]`: the facade's luminance over the patch's as the flat obstruction's
+    /// ([`facade_luminance`]), used where no modelled ground lies before the facets.
     ratio: Vec<f64>,
+    /// `[t][p]`: its parts ([`facade_parts`]) over the patch's luminance: the facade lit by
+    /// the sky and the sun, by the ground the sky lights, by the ground the sun lights.
+    parts: [Vec<f64>; 3],
+
+    cells: Vec<GroundCell>,
+    weights: GroundWeights,
+    /// Each sensor's weights of the glow's cells ([`glow_window_cells`]), one a group.
+    glow_weights: GroundWeights,
 }
 
 impl Cache {
     pub fn new(m: &Model) -> Cache {
+        let (cells, ngroups) = ground_cells(&m.room);
+        let bounces = m.ground_bounces();
+        let weights = GroundWeights::new(&m.room, &m.sensors, bounces.clone(), &cells, ngroups);
+        // The glow's light entering the windows (its direct view is the sensors' own):
+        // the ground's shares of one and more bounces, made whole.
+        let indirect = bounces.map(|b| {
+            b.map(|v| {
+                v.into_iter()
+                    .map(|[d, one, more]| {
+                        let r = one + more;
+                        if d < 1.0 && r > 0.0 {
+                            [0.0, one / r, more / r]
+                        } else {
+                            [0.0, 0.0, 1.0]
+                        }
+                    })
+                    .collect()
+            })
+        });
+        let (gcells, gn) = glow_window_cells(&m.room);
+        let glow_weights = GroundWeights::new(&m.room, &m.sensors, indirect, &gcells, gn);
         let geoms = distances(m)
             .into_iter()
-            .map(|d| Geometry::new(m, d))
+            .map(|d| Geometry::new(m, d, &cells))
             .collect();
         let (nt, np) = (m.nsteps(), m.comps.npatch);
         let nbin = (360.0 / FACADE_BIN) as usize;
         let mut ratio = vec![0.0; nt * np];
+        let mut parts = [vec![0.0; nt * np], vec![0.0; nt * np], vec![0.0; nt * np]];
+        let wa = window_azimuths(m)[0].to_radians();
         for t in 0..nt {
-            let l_o: Vec<f64> = (0..nbin)
+            // Per bin: the facade's luminance as the flat obstruction's, and its parts.
+            let bins: Vec<(f64, [f64; 3])> = (0..=nbin)
                 .map(|b| {
-                    let az = ((b as f64 + 0.5) * FACADE_BIN).to_radians();
-                    facade_luminance(m, t, [-az.sin(), -az.cos(), 0.0])
+                    // The last one is the glow's stand-in: the facade's lower part, facing
+                    // the room from the windows' outward azimuth.
+                    let az = if b == nbin {
+                        wa
+                    } else {
+                        ((b as f64 + 0.5) * FACADE_BIN).to_radians()
+                    };
+                    let n = [-az.sin(), -az.cos(), 0.0];
+                    (facade_luminance(m, t, n), facade_parts(m, t, n))
                 })
                 .collect();
-            // The glow's stand-in: the facade's lower part, facing the room from the
-            // windows' outward azimuth.
-            let wa = window_azimuths(m)[0].to_radians();
-            let l0 = sky_luminance(m, t, 0);
-            if l0 > 0.0 {
-                ratio[t * np] = facade_luminance(m, t, [-wa.sin(), -wa.cos(), 0.0]) / l0;
-            }
+            let mut put = |p: usize, b: usize, l: f64| {
+                if l > 0.0 {
+                    ratio[t * np + p] = bins[b].0 / l;
+                    for (k, v) in parts.iter_mut().enumerate() {
+                        v[t * np + p] = bins[b].1[k] / l;
+                    }
+                }
+            };
+            put(0, nbin, sky_luminance(m, t, 0));
             for p in 1..np {
-                let l = sky_luminance(m, t, p);
                 let az = m.patches.centre_angles(p).1.to_degrees().rem_euclid(360.0);
                 let b = ((az / FACADE_BIN) as usize).min(nbin - 1);
-                if l > 0.0 {
-                    ratio[t * np + p] = l_o[b] / l;
-                }
+                put(p, b, sky_luminance(m, t, p));
             }
         }
-        Cache { geoms, ratio }
+        Cache {
+            geoms,
+            ratio,
+            parts,
+            cells,
+            weights,
+            glow_weights,
+        }
     }
 
     fn geometry(&self, distance: f64) -> Option<&Geometry> {
@@ -535,7 +896,7 @@ pub fn apply(e: &Effect, m: &Model, w: &mut Weights) {
     let g = match cache.geometry(*distance) {
         Some(g) => g,
         None => {
-            owned = Geometry::new(m, *distance);
+            owned = Geometry::new(m, *distance, &cache.cells);
             &owned
         }
     };
@@ -547,11 +908,12 @@ pub fn apply(e: &Effect, m: &Model, w: &mut Weights) {
         dir: vec![0.0; ns * np],
         ratio: cache.ratio.iter().map(|r| r * k).collect(),
         gnd: None,
+        glow: None,
     };
     // The ground's part starts from the other effects' window weights (see
     // [`GroundView`]).
-    let mut gnd = w.gnd.take().unwrap_or_else(|| w.win_ind.clone());
-    let mut sun_gnd = w.sun_gnd.take().unwrap_or_else(|| w.sun_win_ind.clone());
+    let gnd = w.gnd.take().unwrap_or_else(|| w.win_ind.clone());
+    let sun_gnd = w.sun_gnd.take().unwrap_or_else(|| w.sun_win_ind.clone());
     for i in 1..np.min(hz.cells.len()) {
         let Some(pc) = hz.cells[i].as_ref() else {
             continue;
@@ -598,11 +960,25 @@ pub fn apply(e: &Effect, m: &Model, w: &mut Weights) {
         }
     }
     // The ground glow (patch 0): hidden where the facets stand in front of it.
-    if let Some(f0) = glow_hidden(&g.glow_win, &tp) {
-        fill.ind[0] = f0 * w.win_ind[0];
+    // Its light entering the windows reaches each sensor from its own directions (the
+    // back of the room from those nearest the windows' normal: [`GroundWeights`]).
+    if let Some(f0) = glow_hidden(&g.glow_win, &tp, &|_| 1.0) {
+        let gw = &cache.glow_weights;
+        let win0 = w.win_ind[0];
+        let mut left = w.glow_ind.take().unwrap_or_else(|| vec![win0; ns]);
+        let mut fg = vec![0.0; ns];
+        for s in 0..ns {
+            let row = &gw.sky[s * gw.ngroups..(s + 1) * gw.ngroups];
+            let f = glow_hidden(&g.glow_win, &tp, &|i| row[i]).unwrap_or(f0);
+            fg[s] = f * left[s];
+            left[s] *= 1.0 - f;
+        }
+        w.glow_ind = Some(left);
+        fill.glow = Some(fg);
+        fill.ind[0] = f0 * win0;
         w.win_ind[0] *= 1.0 - f0;
         for s in 0..ns {
-            let f = glow_hidden(&g.glow_dir[s], &tp).unwrap_or(f0);
+            let f = glow_hidden(&g.glow_dir[s], &tp, &|_| 1.0).unwrap_or(f0);
             fill.dir[s * np] = f * wd[s * np];
             wd[s * np] *= 1.0 - f;
         }
@@ -610,33 +986,129 @@ pub fn apply(e: &Effect, m: &Model, w: &mut Weights) {
     w.win_dir = Some(wd);
     let gv = &g.ground;
     if gv.total > 0.0 {
-        let behind = gv.behind(&tp);
-        let mut fg = vec![0.0; np];
-        for p in 0..np {
-            let mut hid = 0.0;
-            if let Some(v) = gv.sky.get(p).filter(|_| gv.span[p] > 0.0) {
-                for &(wt, az, el) in v {
-                    let t = tp(az);
-                    if t > 0.0 {
-                        hid += wt * ((t - el) / gv.span[p] + 0.5).clamp(0.0, 1.0);
+        let gwt = &cache.weights;
+        let ng = gwt.ngroups;
+        let behind = gv.behind(&tp, ng);
+        let per_sensor = |weights: &[f64]| -> Vec<f64> {
+            (0..ns)
+                .map(|s| {
+                    let row = &weights[s * ng..(s + 1) * ng];
+                    row.iter().zip(&behind).map(|(a, b)| a * b).sum()
+                })
+                .collect()
+        };
+        let (behind_sky, behind_sun) = (per_sensor(&gwt.sky), per_sensor(&gwt.sun));
+        let mut seen = w.gnd_seen.take().unwrap_or_else(|| vec![1.0; ns * np]);
+        let mut fg = vec![0.0; ns * np];
+        let mut hidden: Vec<(usize, f64)> = Vec::new();
+        let mut acc = vec![0.0; ng];
+        // Sum the hidden weight per group, listing the groups touched.
+        let mut gather = |rays: &[(usize, f64, f64, f64)],
+                          amount: &dyn Fn(f64, f64, f64) -> f64,
+                          hidden: &mut Vec<(usize, f64)>| {
+            hidden.clear();
+            for &(grp, wt, az, el) in rays {
+                let h = amount(tp(az), el, wt);
+                if h > 0.0 {
+                    if acc[grp] == 0.0 {
+                        hidden.push((grp, 0.0));
                     }
+                    acc[grp] += h;
                 }
             }
-            let f = (behind + hid / gv.total).min(1.0);
-            fg[p] = f * gnd[p];
-            gnd[p] *= 1.0 - f;
+            for x in hidden.iter_mut() {
+                x.1 = acc[x.0];
+                acc[x.0] = 0.0;
+            }
+        };
+        let any_behind = behind.iter().any(|b| *b > 0.0);
+        for p in 0..np {
+            hidden.clear();
+            if let Some(v) = gv.sky.get(p).filter(|_| gv.span[p] > 0.0) {
+                let span = gv.span[p];
+                gather(
+                    v,
+                    &|t, el, wt| {
+                        if t > 0.0 {
+                            wt * ((t - el) / span + 0.5).clamp(0.0, 1.0)
+                        } else {
+                            0.0
+                        }
+                    },
+                    &mut hidden,
+                );
+            }
+            if hidden.is_empty() && !any_behind {
+                continue;
+            }
+            for s in 0..ns {
+                let f = hidden_share(&gwt.sky, ng, &behind_sky, &hidden, gv.total, s);
+                fg[s * np + p] = f * gnd[p] * seen[s * np + p];
+                seen[s * np + p] *= 1.0 - f;
+            }
         }
+        let mut sun_seen = w.sun_gnd_seen.take().unwrap_or_else(|| vec![1.0; ns * nt]);
         for (t, v) in gv.sun.iter().enumerate().take(nt) {
-            let hid: f64 = v
-                .iter()
-                .map(|&(wt, az, el)| wt * sun_hidden(tp(az), el))
-                .sum();
-            sun_gnd[t] *= 1.0 - (behind + hid / gv.total).min(1.0);
+            gather(v, &|top, el, wt| wt * sun_hidden(top, el), &mut hidden);
+            for s in 0..ns {
+                let f = hidden_share(&gwt.sun, ng, &behind_sun, &hidden, gv.total, s);
+                sun_seen[s * nt + t] *= 1.0 - f;
+            }
         }
         fill.gnd = Some(fg);
+        w.gnd_seen = Some(seen);
+        w.sun_gnd_seen = Some(sun_seen);
     }
     w.gnd = Some(gnd);
     w.sun_gnd = Some(sun_gnd);
+    // The facade's light from the street before it, as much as the sky and the sun still
+    // light that street: a point of the facade at the height the hidden patch is seen at,
+    // in front of a long wall as high as the profile there ([`facade_parts`]).
+    if !m.room.ground_polygons.is_empty() {
+        // The ground's reflectance as fitted so far (a ground-albedo effect applied first).
+        let kg = m.ground_scale(&w.refl);
+        let (c, _) = crate::apply::window_centre(&m.room, &m.sensors);
+        let zg = m
+            .room
+            .ground_polygons
+            .iter()
+            .flatten()
+            .map(|v| v[2])
+            .fold(f64::INFINITY, f64::min);
+        let wa = window_azimuths(m)[0];
+        let dist = *distance;
+        for p in 0..np {
+            let (alt, az) = if p == 0 {
+                (0.0, wa)
+            } else {
+                let (a, z) = m.patches.centre_angles(p);
+                (a.to_degrees(), z.to_degrees().rem_euclid(360.0))
+            };
+            let top_p = tp(az);
+            if top_p <= 0.0 {
+                continue;
+            }
+            let h = c[2] + dist * top_p.to_radians().tan() - zg;
+            let z = (c[2] + dist * alt.min(top_p).to_radians().tan() - zg).clamp(0.1, h.max(0.1));
+            if h <= 0.0 {
+                continue;
+            }
+            let sky_lit = 1.0 - street_sky_shade(z / h);
+            let a = az.to_radians();
+            let n_f = [-a.sin(), -a.cos(), 0.0];
+            for (t, sk) in m.skies.iter().enumerate().take(nt) {
+                let i = t * np + p;
+                let sun_lit = if sk.sun_altitude_deg > 0.0 {
+                    1.0 - street_sun_shade(z, h, n_f, sk.sun_dir)
+                } else {
+                    1.0
+                };
+                fill.ratio[i] = k
+                    * (cache.parts[0][i]
+                        + kg * (cache.parts[1][i] * sky_lit + cache.parts[2][i] * sun_lit));
+            }
+        }
+    }
     w.fill = Some(fill);
     let mut swd = w.sun_win_dir.take().unwrap_or_else(|| vec![1.0; ns * nt]);
     for t in 0..nt.min(g.sun_dir.len()) {
@@ -1223,12 +1695,13 @@ mod tests {
         ];
         let (case, room, facets) = studio_facets(distance, start, step, &alts);
         let (c, _) = crate::apply::window_centre(&room, &case.sensors);
-        let (total, behind, points) = ground_points(&room, c, distance);
+        let (cells, _) = ground_cells(&room);
+        let (total, behind, points) = ground_points(&cells, c, distance);
         assert!(total > 0.0 && !points.is_empty() && !behind.is_empty());
         let tp = |az: f64| top(start, step, &alts, az);
         let (mut agree, mut rays) = (0usize, 0usize);
         let (mut from_ground, mut from_centre) = (0usize, 0usize);
-        for &(_, q) in points.iter().step_by(3) {
+        for &(_, _, q) in points.iter().step_by(3) {
             for i in 0..60 {
                 let az = 110.0 + 100.0 * (i as f64 + 0.5) / 60.0;
                 for j in 0..30 {
@@ -1272,7 +1745,7 @@ mod tests {
             [v[0] / n, v[1] / n, v[2] / n]
         };
         let mut checked = 0;
-        for &(_, az) in &behind {
+        for &(_, _, az) in &behind {
             let a = az.to_radians();
             // The point on the ground 25 m from the centre at that azimuth.
             let q = [c[0] + 25.0 * a.sin(), c[1] + 25.0 * a.cos(), 0.0];
@@ -1287,5 +1760,116 @@ mod tests {
             checked += 1;
         }
         assert!(checked > 10, "{checked} points behind checked");
+    }
+
+    /// Each sensor's weights of the ground cells on the committed studio case: they keep
+    /// the windows' total (a ground no profile hides stays unhidden at every sensor);
+    /// without records every sensor weighs the ground as the windows do; lit after one
+    /// bounce, the deepest work-plane sensor leans on shallower (farther) ground than the
+    /// one nearest the window, whose light lands on the ceiling near the window.
+    #[test]
+    fn a_deep_sensor_leans_on_the_far_ground() {
+        let (case, room, _) = studio_facets(14.0, 130.0, 5.0, &[10.0; 12]);
+        let (cells, ng) = ground_cells(&room);
+        let total: f64 = cells.iter().map(|c| c.wt).sum();
+        let mut gw = vec![0.0; ng];
+        for c in &cells {
+            gw[c.group] += c.wt;
+        }
+        let ns = case.sensors.len();
+        let flat = GroundWeights::new(&room, &case.sensors, None, &cells, ng);
+        for s in 0..ns {
+            for (g, wg) in gw.iter().enumerate() {
+                if *wg > 0.0 {
+                    assert!((flat.sky[s * ng + g] - 1.0).abs() < 1e-12);
+                }
+            }
+        }
+        let once = vec![[0.0, 1.0, 0.0]; ns];
+        let w = GroundWeights::new(&room, &case.sensors, Some([once.clone(), once]), &cells, ng);
+        let nsec = (360.0 / GROUND_GROUP_AZ) as usize;
+        let nb = GROUND_BANDS.len() - 1;
+        let mean_band = |s: usize| {
+            let (mut a, mut b) = (0.0, 0.0);
+            for (g, wg) in gw.iter().enumerate() {
+                let x = w.sky[s * ng + g] * wg;
+                a += x * ((g / nsec) % nb) as f64;
+                b += x;
+            }
+            assert!(
+                (b - total).abs() < 1e-9 * total,
+                "sensor {s}: {b} vs {total}"
+            );
+            a / b
+        };
+        // Work-plane sensors (facing up), nearest and farthest from the window.
+        let depth = |s: usize| room.depth(case.sensors[s].ray.org);
+        let up: Vec<usize> = (0..ns)
+            .filter(|&s| case.sensors[s].ray.dir[2] > 0.9)
+            .collect();
+        let near = *up
+            .iter()
+            .min_by(|a, b| depth(**a).total_cmp(&depth(**b)))
+            .unwrap();
+        let far = *up
+            .iter()
+            .max_by(|a, b| depth(**a).total_cmp(&depth(**b)))
+            .unwrap();
+        let (bn, bf) = (mean_band(near), mean_band(far));
+        assert!(
+            bf + 1.0 < bn,
+            "mean depression band: near sensor {bn:.2}, deep sensor {bf:.2}"
+        );
+    }
+
+    /// The street before a long wall: its foot sees half the sky gone (the view factor of
+    /// a long wall from the ground at its foot, (1 - cos 90) / 2), its top less, by the
+    /// integral checked here against a direct sum over ground strips; the wall's own
+    /// shadow covers none of its view with the sun in front, and from a point at height z
+    /// with the shadow reaching x_s the share below the depression atan(z / x_s).
+    #[test]
+    fn a_wall_shades_the_street_it_looks_at() {
+        assert!((street_sky_shade(0.0) - 0.5).abs() < 0.01);
+        let mut last = 0.5;
+        for i in 1..=10 {
+            let u = i as f64 / 10.0;
+            let v = street_sky_shade(u);
+            assert!(v < last && v > 0.0, "u {u}: {v}");
+            last = v;
+        }
+        // Direct sum over ground strips at distance x (view weight of a strip from a
+        // vertical point at height z: (1/2) (sin of the angle to its far edge - ...), 2-D).
+        let (z, h) = (1.0, 1.0);
+        let (mut num, mut den) = (0.0, 0.0);
+        let n = 200_000;
+        for k in 0..n {
+            let (x0, x1) = (k as f64 * 0.001, (k + 1) as f64 * 0.001);
+            // Angle from the wall's normal (horizontal) to the ground point, 2-D.
+            let f = 0.5 * ((z / x0.max(1e-12)).atan().sin() - (z / x1).atan().sin());
+            let x = 0.5 * (x0 + x1);
+            let beta = (h / x).atan();
+            num += f * 0.5 * (1.0 - beta.cos());
+            den += f;
+        }
+        // The strip weights above are the 2-D (cosine) view; the wall's view of the ground
+        // over every azimuth weighs depression by cos^2: compare both within 0.05.
+        assert!(
+            (num / den - street_sky_shade(1.0)).abs() < 0.05,
+            "{} {}",
+            num / den,
+            street_sky_shade(1.0)
+        );
+        let n_f = [0.0, 1.0, 0.0];
+        let sun_front = [0.0, 0.8, 0.6];
+        assert_eq!(street_sun_shade(2.0, 10.0, n_f, sun_front), 0.0);
+        // Sun straight behind at 45 degrees: the shadow reaches x_s = h.
+        let s = std::f64::consts::FRAC_1_SQRT_2;
+        let behind = [0.0, -s, s];
+        let d = (2.0f64 / 10.0).atan();
+        let want = 1.0 - (d + d.sin() * d.cos()) * std::f64::consts::FRAC_2_PI;
+        assert!((street_sun_shade(2.0, 10.0, n_f, behind) - want).abs() < 1e-9);
+        assert!(
+            street_sun_shade(2.0, 10.0, n_f, behind) > street_sun_shade(8.0, 10.0, n_f, behind)
+        );
     }
 }
