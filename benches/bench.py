@@ -159,7 +159,8 @@ def main():
     rows = [pair(name, ours, theirs, runs, work)
             for key, name, ours, theirs in todo if key in wanted]
     load = " ".join(f"{x:.1f}" for x in os.getloadavg())
-    print(f"# make bench: medians of {runs} alternating runs; load average {load}; "
+    print(f"# make bench: medians of {runs} or more alternating runs (short rows until the "
+          f"pair has taken 3 s, at most {7 * runs}); load average {load}; "
           f"{os.cpu_count()} cores")
     print("| workload | ours CPU s | ours wall s | ours peak MB | Radiance CPU s | Radiance wall s | "
           "Radiance peak MB | CPU ratio | memory ratio |")
