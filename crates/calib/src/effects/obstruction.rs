@@ -319,15 +319,7 @@ pub fn sky_luminance(m: &Model, t: usize, p: usize) -> f64 {
 /// vertical plane from the sky patches, the sky's ground patch (the lower quarter sphere,
 /// pi/2 of cosine-weighted solid angle) and the sun.
 pub fn facade_luminance(m: &Model, t: usize, n_f: [f64; 3]) -> f64 {
-    let f = facade_light(m, t, n_f);
-    let mut ground = sky_luminance(m, t, 0);
-    // A facade turned away from the sun stands in front of its own shadow: the ground it
-    // sees is lit by the sky alone (the sky's ground luminance is its reflectance times
-    // the whole horizontal illuminance over pi, gendaymtx).
-    if f.toward <= 0.0 && f.e_sky + f.e_sun > 0.0 {
-        ground *= f.e_sky / (f.e_sky + f.e_sun);
-    }
-    f.rho * (f.e_direct + ground * PI / 2.0) / PI
+    facade_light(m, t, n_f).luminance(m, t)
 }
 
 /// The light on a facade of outward normal `n_f` at step `t` (see [`facade_luminance`]).
@@ -341,6 +333,20 @@ pub struct FacadeLight {
     pub e_sun: f64,
     /// Cosine between the sun's direction and the facade's normal (0 without a sun).
     pub toward: f64,
+}
+
+impl FacadeLight {
+    /// [`facade_luminance`] of this light at step `t`.
+    pub fn luminance(&self, m: &Model, t: usize) -> f64 {
+        let mut ground = sky_luminance(m, t, 0);
+        // A facade turned away from the sun stands in front of its own shadow: the ground
+        // it sees is lit by the sky alone (the sky's ground luminance is its reflectance
+        // times the whole horizontal illuminance over pi, gendaymtx).
+        if self.toward <= 0.0 && self.e_sky + self.e_sun > 0.0 {
+            ground *= self.e_sky / (self.e_sky + self.e_sun);
+        }
+        self.rho * (self.e_direct + ground * PI / 2.0) / PI
+    }
 }
 
 pub fn facade_light(m: &Model, t: usize, n_f: [f64; 3]) -> FacadeLight {

@@ -52,7 +52,7 @@
 //! where the fit put it, as the correction is made for the facets there.
 
 use super::obstruction::{
-    CELLS, Horizon, facade_light, facade_luminance, sky_luminance, window_azimuths, wrap_deg,
+    CELLS, FacadeLight, Horizon, facade_light, sky_luminance, window_azimuths, wrap_deg,
 };
 use super::{Effect, golden, smooth_step};
 use crate::fit::{Fitter, without};
@@ -140,6 +140,8 @@ type SeenCell = (f64, f64, f64, f64);
 #[derive(Debug, Clone)]
 pub struct Geometry {
     pub distance: f64,
+    /// The windows' centre the profile is seen from.
+    centre: [f64; 3],
     /// `[s][p]`: (cell, weight, hit azimuth, hit elevation, cell altitude range) of the
     /// cells sensor `s` sees directly ([`Horizon`]'s direct weights).
     dir: Vec<Vec<Vec<SeenCell>>>,
@@ -187,31 +189,48 @@ struct GroundCell {
 /// The windows' view of the modelled ground (cells of [`GROUND_BANDS`] x
 /// [`GROUND_AZ_STEP`] from each window's centroid that meet it) and the number of groups.
 fn ground_cells(room: &crate::room::Room) -> (Vec<GroundCell>, usize) {
-    let cells = downward_cells(&GROUND_BANDS, GROUND_AZ_STEP);
     let naz = (360.0 / GROUND_AZ_STEP) as usize;
     let nsec = (360.0 / GROUND_GROUP_AZ) as usize;
     let nb = GROUND_BANDS.len() - 1;
+    let cells = window_cells(
+        room,
+        &downward_cells(&GROUND_BANDS, GROUND_AZ_STEP),
+        &|o, d| room.ground_hit(o, d),
+        &|wi, i| (wi * nb + i / naz) * nsec + (i % naz) * nsec / naz,
+    );
+    (cells, room.windows.len() * nb * nsec)
+}
+
+/// Each window's view of the downward directions `dirs` ((direction, solid angle), as
+/// [`downward_cells`] makes them) weighted by area x cosine x solid angle: the cells for
+/// which `point(centroid, direction)` gives a point (where the ray meets what it looks
+/// for), in group `group(window index, cell index)`.
+fn window_cells(
+    room: &crate::room::Room,
+    dirs: &[([f64; 3], f64)],
+    point: &dyn Fn([f64; 3], [f64; 3]) -> Option<[f64; 3]>,
+    group: &dyn Fn(usize, usize) -> usize,
+) -> Vec<GroundCell> {
     let mut out = Vec::new();
     for (wi, w) in room.windows.iter().enumerate() {
-        for (i, &(d, omega)) in cells.iter().enumerate() {
+        for (i, &(d, omega)) in dirs.iter().enumerate() {
             let wt = w.area * dot(d, w.outward).max(0.0) * omega;
             if wt <= 0.0 {
                 continue;
             }
-            let Some(q) = room.ground_hit(w.centroid, d) else {
+            let Some(q) = point(w.centroid, d) else {
                 continue;
             };
-            let group = (wi * nb + i / naz) * nsec + (i % naz) * nsec / naz;
             out.push(GroundCell {
                 wt,
                 q,
-                group,
+                group: group(wi, i),
                 window: wi,
                 d,
             });
         }
     }
-    (out, room.windows.len() * nb * nsec)
+    out
 }
 
 /// How much each sensor depends on each group of ground cells, relative to the windows
@@ -546,29 +565,20 @@ fn glow_hidden(
 /// that miss the modelled ground) as [`GroundCell`]s, grouped one a cell (window index x
 /// cells a window + the cell's index), and the number of groups.
 fn glow_window_cells(room: &crate::room::Room) -> (Vec<GroundCell>, usize) {
-    let cells = downward_cells(&GLOW_BANDS, GLOW_AZ_STEP);
-    let n = cells.len();
-    let mut out = Vec::new();
-    for (wi, w) in room.windows.iter().enumerate() {
-        for (i, &(d, omega)) in cells.iter().enumerate() {
-            let wt = w.area * dot(d, w.outward).max(0.0) * omega;
-            if wt <= 0.0 || room.meets_ground(w.centroid, d) {
-                continue;
-            }
-            out.push(GroundCell {
-                wt,
-                q: w.centroid,
-                group: wi * n + i,
-                window: wi,
-                d,
-            });
-        }
-    }
-    (out, room.windows.len() * n)
+    let dirs = downward_cells(&GLOW_BANDS, GLOW_AZ_STEP);
+    let n = dirs.len();
+    let cells = window_cells(
+        room,
+        &dirs,
+        &|o, d| (!room.meets_ground(o, d)).then_some(o),
+        &|wi, i| wi * n + i,
+    );
+    (cells, room.windows.len() * n)
 }
 
 impl Geometry {
-    fn new(m: &Model, distance: f64, cells: &[GroundCell]) -> Geometry {
+    /// At `distance`, from the windows' ground `cells` and glow cells `glow`.
+    fn new(m: &Model, distance: f64, cells: &[GroundCell], glow: &[GroundCell]) -> Geometry {
         let hz = m.horizon();
         let (c, _) = crate::apply::window_centre(&m.room, &m.sensors);
         let never = (0.0, 90.0);
@@ -623,18 +633,11 @@ impl Geometry {
                     .collect(),
             );
         }
-        let glow_win = m
-            .room
-            .windows
+        let glow_win = glow
             .iter()
-            .enumerate()
-            .flat_map(|(wi, w)| {
-                let n = downward_cells(&GLOW_BANDS, GLOW_AZ_STEP).len();
-                glow_cells(m, c, distance, w.centroid, &|d| {
-                    w.area * dot(d, w.outward).max(0.0)
-                })
-                .into_iter()
-                .map(move |(a, b, z, i)| (a, b, z, wi * n + i))
+            .filter_map(|g| {
+                let (haz, el) = hit(c, distance, g.q, g.d)?;
+                Some((g.wt, haz, c[2] + distance * el.to_radians().tan(), g.group))
             })
             .collect();
         let glow_dir = m
@@ -659,6 +662,7 @@ impl Geometry {
         let ground = GroundView::new(m, hz, c, distance, cells);
         Geometry {
             distance,
+            centre: c,
             dir,
             sun_dir,
             sun_win,
@@ -676,8 +680,7 @@ impl Geometry {
 /// `rho_g E / pi`, `rho_g` the modelled ground's reflectance (without one, the sky's ground
 /// patch's). [`apply`] weighs the two ground parts by how much of the sky and the sun the
 /// profile leaves the ground before the facade: a building shades the street in front of it.
-fn facade_parts(m: &Model, t: usize, n_f: [f64; 3]) -> [f64; 3] {
-    let f = facade_light(m, t, n_f);
+fn facade_parts(f: &FacadeLight, m: &Model, t: usize) -> [f64; 3] {
     let e = f.e_sky + f.e_sun;
     let rho_g = if m.room.ground_reflectance > 0.0 {
         m.room.ground_reflectance
@@ -759,8 +762,13 @@ pub struct Cache {
 
     cells: Vec<GroundCell>,
     weights: GroundWeights,
-    /// Each sensor's weights of the glow's cells ([`glow_window_cells`]), one a group.
+    /// The glow's cells from the windows ([`glow_window_cells`]) and each sensor's
+    /// weights of them, one a group.
+    glow_cells: Vec<GroundCell>,
     glow_weights: GroundWeights,
+    /// The lowest point of the modelled ground, where the street before a facade lies
+    /// (`None` without a modelled ground).
+    ground_level: Option<f64>,
 }
 
 impl Cache {
@@ -784,12 +792,19 @@ impl Cache {
                     .collect()
             })
         });
-        let (gcells, gn) = glow_window_cells(&m.room);
-        let glow_weights = GroundWeights::new(&m.room, &m.sensors, indirect, &gcells, gn);
+        let (glow_cells, gn) = glow_window_cells(&m.room);
+        let glow_weights = GroundWeights::new(&m.room, &m.sensors, indirect, &glow_cells, gn);
         let geoms = distances(m)
             .into_iter()
-            .map(|d| Geometry::new(m, d, &cells))
+            .map(|d| Geometry::new(m, d, &cells, &glow_cells))
             .collect();
+        let ground_level = m
+            .room
+            .ground_polygons
+            .iter()
+            .flatten()
+            .map(|v| v[2])
+            .reduce(f64::min);
         let (nt, np) = (m.nsteps(), m.comps.npatch);
         let nbin = (360.0 / FACADE_BIN) as usize;
         let mut ratio = vec![0.0; nt * np];
@@ -807,7 +822,8 @@ impl Cache {
                         ((b as f64 + 0.5) * FACADE_BIN).to_radians()
                     };
                     let n = [-az.sin(), -az.cos(), 0.0];
-                    (facade_luminance(m, t, n), facade_parts(m, t, n))
+                    let f = facade_light(m, t, n);
+                    (f.luminance(m, t), facade_parts(&f, m, t))
                 })
                 .collect();
             let mut put = |p: usize, b: usize, l: f64| {
@@ -831,7 +847,9 @@ impl Cache {
             parts,
             cells,
             weights,
+            glow_cells,
             glow_weights,
+            ground_level,
         }
     }
 
@@ -896,7 +914,7 @@ pub fn apply(e: &Effect, m: &Model, w: &mut Weights) {
     let g = match cache.geometry(*distance) {
         Some(g) => g,
         None => {
-            owned = Geometry::new(m, *distance, &cache.cells);
+            owned = Geometry::new(m, *distance, &cache.cells, &cache.glow_cells);
             &owned
         }
     };
@@ -1064,17 +1082,10 @@ pub fn apply(e: &Effect, m: &Model, w: &mut Weights) {
     // The facade's light from the street before it, as much as the sky and the sun still
     // light that street: a point of the facade at the height the hidden patch is seen at,
     // in front of a long wall as high as the profile there ([`facade_parts`]).
-    if !m.room.ground_polygons.is_empty() {
+    if let Some(zg) = cache.ground_level {
         // The ground's reflectance as fitted so far (a ground-albedo effect applied first).
         let kg = m.ground_scale(&w.refl);
-        let (c, _) = crate::apply::window_centre(&m.room, &m.sensors);
-        let zg = m
-            .room
-            .ground_polygons
-            .iter()
-            .flatten()
-            .map(|v| v[2])
-            .fold(f64::INFINITY, f64::min);
+        let c = g.centre;
         let wa = window_azimuths(m)[0];
         let dist = *distance;
         for p in 0..np {
